@@ -1,0 +1,62 @@
+// `trisnap snap IN OUT --tolerance T ...`: the whole layer through one engine call.
+#include "app/command.hpp"
+#include "app/options.hpp"
+#include "app/pipeline.hpp"
+#include "app/plan.hpp"
+#include "app/report.hpp"
+#include "config/errors.hpp"
+
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+
+namespace trisnap {
+namespace {
+
+void check_report_path(const std::string& path)
+{
+    if (path.empty()) return;
+    const std::filesystem::path p(path);
+    const auto parent = p.has_parent_path() ? p.parent_path() : std::filesystem::path(".");
+    if (!std::filesystem::is_directory(parent))
+        throw argument_error("--report " + path + ": the directory " + parent.string() + " does not exist");
+}
+
+class SnapCommand : public Command {
+public:
+    CLI::App* setup(CLI::App& parent) override
+    {
+        CLI::App* app = parent.add_subcommand("snap", "snap-round a polygon/line layer and write the result");
+        add_snap_options(*app, m_args, true);
+        return app;
+    }
+
+    int run() override
+    {
+        setup_logging(m_args.verbose, m_args.quiet);
+        const Config config = resolve_config(m_args);
+        if (m_args.print_config) {
+            std::cout << to_toml(config);
+            return 0;
+        }
+        check_report_path(m_args.report);
+        const ThreadLimit limit(config.run.threads);
+        const auto start = std::chrono::steady_clock::now();
+        Progress progress(m_args.progress, m_args.json_progress);
+        Plan plan = make_plan(m_args, config);
+        const RunResult result = run_pipeline(plan, progress);
+        const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (!m_args.report.empty()) write_report(m_args.report, plan, result, total);
+        if (m_args.quiet == 0) print_summary(std::cout, plan, result, total);
+        return m_args.strict && !result.problems.empty() ? 3 : 0;
+    }
+
+private:
+    SnapArgs m_args;
+};
+
+} // namespace
+
+std::unique_ptr<Command> make_snap_command() { return std::make_unique<SnapCommand>(); }
+
+} // namespace trisnap

@@ -1,0 +1,40 @@
+#pragma once
+// One subcommand: setup() declares its options on CLI11 and does no I/O (parsing and checks
+// only); run() does the work and returns the exit code. Errors are thrown as argument_error,
+// config_error or io_error and turned into one line by main().
+#include <CLI/CLI.hpp>
+
+#include <memory>
+#include <vector>
+
+namespace trisnap {
+
+class Command {
+public:
+    virtual ~Command() = default;
+    virtual CLI::App* setup(CLI::App& parent) = 0;
+    virtual int run() = 0;
+};
+
+std::unique_ptr<Command> make_snap_command();
+std::unique_ptr<Command> make_validate_command();
+std::unique_ptr<Command> make_info_command();
+std::unique_ptr<Command> make_problems_command();
+
+/// Log level from -v (repeatable) and -q; logs go to stderr, results to stdout.
+void setup_logging(int verbose, int quiet);
+
+/// Limits GDAL and oneTBB to `threads` (0 = all cores) while it lives.
+class ThreadLimit {
+public:
+    explicit ThreadLimit(int threads);
+    ~ThreadLimit();
+    ThreadLimit(const ThreadLimit&) = delete;
+    ThreadLimit& operator=(const ThreadLimit&) = delete;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+};
+
+} // namespace trisnap

@@ -1,0 +1,127 @@
+#include "app/options.hpp"
+
+#include "config/errors.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace trisnap {
+namespace {
+
+void add_input_options(CLI::App& c, SnapArgs& a)
+{
+    c.add_option("IN", a.input, "input vector dataset (GPKG, Shapefile, FlatGeobuf, GeoJSON, .osm.pbf, ...)");
+    c.add_option("--layer", a.layer, "input layer (default: the only polygon/line layer)");
+    c.add_option("--where", a.where, "attribute filter (OGR SQL WHERE clause)");
+    c.add_option("--bbox", a.bbox, "spatial filter xmin,ymin,xmax,ymax in layer units");
+}
+
+void add_output_options(CLI::App& c, SnapArgs& a)
+{
+    c.add_option("OUT", a.output, "output dataset; format from the extension or -f");
+    c.add_option("-f,--format", a.format, "output GDAL driver short name (GPKG, \"ESRI Shapefile\", FlatGeobuf, GeoJSON)");
+    c.add_option("--lco", a.layer_options, "layer creation option K=V (repeatable), as ogr2ogr -lco");
+    c.add_option("--nln", a.new_layer_name, "output layer name (also -nln; default: the input layer's)");
+    c.add_flag("--overwrite", a.overwrite, "replace OUT if it exists");
+    c.add_option("--report", a.report, "write the run manifest and problems as JSON to FILE");
+}
+
+void add_engine_options(CLI::App& c, SnapArgs& a)
+{
+    c.add_option("--tolerance", a.tolerance, "snap tolerance t in layer units ([snap] tolerance)");
+    c.add_option("--tolerance-m", a.tolerance_m, "tolerance in metres; converted at the layer's mean latitude on a geographic CRS ([snap] tolerance_m)");
+    c.add_option("--grid", a.grid, "output grid step, <= t/4; 0 = none ([snap] grid)");
+    c.add_option("--edge-separation", a.edge_separation, "vertex-edge separation factor of t, (0, 1] ([snap] edge_separation)");
+    c.add_option("--sliver-factor", a.sliver_factor, "sliver apex snap distance factor of t; 0 = off ([snap] sliver_factor)");
+    c.add_option("--max-drift-factor", a.max_drift_factor, "report moves beyond this factor of t ([snap] max_drift_factor)");
+    c.add_option("--max-operations", a.max_operations, "engine operation cap; 0 = automatic ([snap] max_operations)");
+}
+
+void add_run_options(CLI::App& c, SnapArgs& a)
+{
+    c.add_option("--config", a.config_file, "TOML configuration file (see configs/README.md)");
+    c.add_flag("--print-config", a.print_config, "print the resolved configuration as TOML and exit");
+    c.add_flag("--strict", a.strict, "exit with code 3 when any problem is reported");
+    c.add_option("--threads", a.threads, "worker threads for GDAL and oneTBB; 0 = all cores ([run] threads)");
+    c.add_option("--progress", a.progress, "progress bar: auto (TTY only), always, never")
+        ->check(CLI::IsMember({"auto", "always", "never"}));
+    c.add_flag("--json-progress", a.json_progress, "progress as JSON lines on stderr");
+    c.add_flag("-v,--verbose", a.verbose, "more log output (repeatable)");
+    c.add_flag("-q,--quiet", a.quiet, "only errors; no summary");
+}
+
+template <typename T, typename U>
+void overlay(const std::optional<T>& flag, U& field)
+{
+    if (flag) field = *flag;
+}
+
+} // namespace
+
+void add_snap_options(CLI::App& command, SnapArgs& args, bool needs_output)
+{
+    add_input_options(command, args);
+    if (needs_output) add_output_options(command, args);
+    else command.add_option("OUT", args.output, "output dataset (checked, not written)");
+    if (!needs_output) {
+        command.add_option("-f,--format", args.format, "output GDAL driver short name");
+        command.add_option("--lco", args.layer_options, "layer creation option K=V");
+        command.add_option("--nln", args.new_layer_name, "output layer name (also -nln)");
+        command.add_flag("--overwrite", args.overwrite, "OUT may exist");
+        command.add_option("--report", args.report, "report path (not written by validate)");
+    }
+    add_engine_options(command, args);
+    add_run_options(command, args);
+}
+
+Config resolve_config(const SnapArgs& args)
+{
+    if (args.tolerance && args.tolerance_m) throw argument_error("give --tolerance or --tolerance-m, not both");
+    Config config = default_config();
+    if (!args.config_file.empty()) {
+        load_config_file(args.config_file, config);
+        if (std::string reason = check_config(config); !reason.empty())
+            throw config_error(args.config_file, 0, "", reason);
+    }
+    overlay(args.tolerance, config.snap.tolerance);
+    overlay(args.tolerance_m, config.snap.tolerance_m);
+    if (args.tolerance) config.snap.tolerance_m.reset(); // a flag beats the other form in a file
+    if (args.tolerance_m && !args.tolerance) config.snap.tolerance.reset();
+    overlay(args.grid, config.snap.grid);
+    overlay(args.edge_separation, config.snap.edge_separation);
+    overlay(args.sliver_factor, config.snap.sliver_factor);
+    overlay(args.max_drift_factor, config.snap.max_drift_factor);
+    overlay(args.max_operations, config.snap.max_operations);
+    overlay(args.threads, config.run.threads);
+    if (std::string reason = check_config(config); !reason.empty()) throw argument_error(reason);
+    return config;
+}
+
+std::vector<double> parse_bbox(const std::string& text)
+{
+    std::vector<double> values;
+    std::istringstream in(text);
+    for (std::string item; std::getline(in, item, ',');) {
+        char* end = nullptr;
+        const double v = std::strtod(item.c_str(), &end);
+        if (item.empty() || *end != '\0' || !std::isfinite(v))
+            throw argument_error("--bbox: '" + item + "' is not a number (expected xmin,ymin,xmax,ymax)");
+        values.push_back(v);
+    }
+    if (values.size() != 4 || values[0] >= values[2] || values[1] >= values[3])
+        throw argument_error("--bbox must be xmin,ymin,xmax,ymax with xmin < xmax and ymin < ymax, got '" + text + "'");
+    return values;
+}
+
+std::vector<std::string> normalise_arguments(int argc, char** argv)
+{
+    std::vector<std::string> out;
+    for (int i = 0; i < argc; ++i) {
+        std::string arg = argv[i];
+        if (arg == "-nln" || arg == "-lco") arg = "-" + arg;
+        out.push_back(arg);
+    }
+    return out;
+}
+
+} // namespace trisnap

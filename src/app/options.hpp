@@ -1,0 +1,54 @@
+#pragma once
+// The options shared by `snap` and `validate`, as parsed by CLI11 (no I/O here), and their
+// resolution into a Config: defaults < --config FILE.toml < flags.
+#include "config/config.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace trisnap {
+
+struct SnapArgs {
+    std::string input;
+    std::string output;
+    std::string layer;
+    std::string report;
+    std::string format;
+    std::string new_layer_name; ///< -nln
+    std::string where;
+    std::string bbox;
+    std::string config_file;
+    std::string progress = "auto";
+    std::vector<std::string> layer_options; ///< --lco K=V
+    std::optional<double> tolerance;
+    std::optional<double> tolerance_m;
+    std::optional<double> grid;
+    std::optional<double> edge_separation;
+    std::optional<double> sliver_factor;
+    std::optional<double> max_drift_factor;
+    std::optional<std::int64_t> max_operations;
+    std::optional<int> threads;
+    bool overwrite = false;
+    bool strict = false;
+    bool print_config = false;
+    bool json_progress = false;
+    int verbose = 0;
+    int quiet = 0;
+};
+
+/// Declares the snap/validate options on `command`; values land in `args`.
+void add_snap_options(CLI::App& command, SnapArgs& args, bool needs_output);
+
+/// Defaults, then the --config file, then flags. Throws config_error / argument_error.
+Config resolve_config(const SnapArgs& args);
+
+/// xmin,ymin,xmax,ymax; throws argument_error.
+std::vector<double> parse_bbox(const std::string& text);
+
+/// ogr2ogr spells some options with one dash (-nln, -lco); CLI11 wants two. Rewrites argv.
+std::vector<std::string> normalise_arguments(int argc, char** argv);
+
+} // namespace trisnap

@@ -1,0 +1,147 @@
+#include "app/plan.hpp"
+
+#include "config/errors.hpp"
+#include "io/dataset.hpp"
+#include "io/gdal_errors.hpp"
+#include "io/layer_info.hpp"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <numbers>
+#include <ostream>
+
+namespace trisnap {
+namespace {
+
+void apply_filters(const SnapArgs& args, OGRLayer& layer)
+{
+    if (!args.where.empty()) {
+        ScopedErrorCapture capture;
+        if (layer.SetAttributeFilter(args.where.c_str()) != OGRERR_NONE)
+            throw argument_error("--where '" + args.where + "': " + capture.last_error("invalid filter"));
+    }
+    if (!args.bbox.empty()) {
+        const std::vector<double> b = parse_bbox(args.bbox);
+        layer.SetSpatialFilterRect(b[0], b[1], b[2], b[3]);
+    }
+}
+
+/// Latitude at the middle of the layer's extent, honouring the data axis order.
+double mean_latitude(OGRLayer& layer, const OGRSpatialReference& srs)
+{
+    OGREnvelope e;
+    if (layer.GetExtent(&e, TRUE) != OGRERR_NONE)
+        throw argument_error("--tolerance-m: the layer has no extent to take a latitude from");
+    const auto& mapping = srs.GetDataAxisToSRSAxisMapping();
+    const bool lat_is_x = srs.EPSGTreatsAsLatLong() && !mapping.empty() && mapping[0] == 1;
+    return lat_is_x ? (e.MinX + e.MaxX) / 2 : (e.MinY + e.MaxY) / 2;
+}
+
+double from_metres(double metres, OGRLayer& layer, std::string& note)
+{
+    const OGRSpatialReference* srs = layer.GetSpatialRef();
+    if (!srs) throw argument_error("--tolerance-m needs a layer with a CRS; give --tolerance in layer units");
+    if (!srs->IsGeographic()) {
+        const double unit = srs->GetLinearUnits();
+        note = fmt::format("{} m = {} layer units ({} m each)", metres, metres / unit, unit);
+        return metres / unit;
+    }
+    const double lat = mean_latitude(layer, *srs);
+    const double degrees = metres / metres_per_degree(lat);
+    note = fmt::format("{} m = {:.3g} degrees at mean latitude {:.4f}", metres, degrees, lat);
+    return degrees;
+}
+
+double resolve_tolerance(const Config& config, OGRLayer& layer, std::string& note)
+{
+    if (config.snap.tolerance_m) return from_metres(*config.snap.tolerance_m, layer, note);
+    if (!config.snap.tolerance)
+        throw argument_error("no tolerance: give --tolerance T (layer units) or --tolerance-m M");
+    const double t = *config.snap.tolerance;
+    const OGRSpatialReference* srs = layer.GetSpatialRef();
+    note = "layer units";
+    if (srs && srs->IsGeographic()) {
+        note = "degrees";
+        if (t >= 0.001)
+            spdlog::warn("--tolerance {} is in degrees on this geographic CRS (>= {:.0f} m); "
+                         "for metres use --tolerance-m", t, t * metres_per_degree(0) * 0.99);
+    }
+    return t;
+}
+
+SnapOptions engine_options(const Config& config, double tolerance)
+{
+    SnapOptions o;
+    o.tolerance = tolerance;
+    o.edge_separation = config.snap.edge_separation;
+    o.sliver_factor = config.snap.sliver_factor;
+    o.grid = config.snap.grid;
+    o.max_drift_factor = config.snap.max_drift_factor;
+    o.max_operations = static_cast<std::size_t>(config.snap.max_operations);
+    if (std::string reason = validate(o); !reason.empty()) throw argument_error(reason);
+    return o;
+}
+
+WriteOptions write_options(const SnapArgs& args)
+{
+    WriteOptions w;
+    w.path = args.output;
+    w.format = args.format;
+    w.layer_name = args.new_layer_name;
+    w.layer_options = args.layer_options;
+    w.overwrite = args.overwrite;
+    for (const auto& o : w.layer_options)
+        if (o.find('=') == std::string::npos) throw argument_error("--lco '" + o + "': expected KEY=VALUE");
+    return w;
+}
+
+} // namespace
+
+double metres_per_degree(double lat)
+{
+    const double k_equator = 6378137.0 * std::numbers::pi / 180.0;
+    return k_equator * std::max(std::cos(lat * std::numbers::pi / 180.0), 1e-3);
+}
+
+Plan make_plan(const SnapArgs& args, const Config& config)
+{
+    if (args.input.empty()) throw argument_error("missing IN: trisnap snap IN OUT --tolerance T");
+    if (args.output.empty()) throw argument_error("missing OUT: trisnap snap IN OUT --tolerance T");
+    Plan plan;
+    plan.config = config;
+    plan.write = write_options(args);
+    GDALDriver& driver = output_driver(plan.write.path, plan.write.format);
+    plan.output_driver = driver.GetDescription();
+    plan.keeps_fids = driver_keeps_fids(driver);
+    check_output_path(plan.write, args.input);
+    plan.input_path = args.input;
+    plan.dataset = open_input(args.input);
+    plan.input_driver = plan.dataset->GetDriverName();
+    plan.layer = &select_layer(*plan.dataset, args.input, args.layer);
+    plan.crs = describe_crs(plan.layer->GetSpatialRef());
+    apply_filters(args, *plan.layer);
+    if (plan.input_driver != "OSM") plan.feature_count = plan.layer->GetFeatureCount(TRUE);
+    plan.tolerance = resolve_tolerance(config, *plan.layer, plan.tolerance_note);
+    plan.options = engine_options(config, plan.tolerance);
+    return plan;
+}
+
+void print_plan(const Plan& plan, std::ostream& out)
+{
+    const std::string count = plan.feature_count < 0 ? "unknown until read" : std::to_string(plan.feature_count);
+    out << fmt::format("input:     {} ({}), layer '{}', {} features, CRS {}\n", plan.input_path,
+                       plan.input_driver, plan.layer->GetName(), count, plan.crs);
+    out << fmt::format("tolerance: {} ({})\n", plan.tolerance, plan.tolerance_note);
+    out << fmt::format("engine:    edge_separation {}, sliver_factor {}, grid {}, max_drift_factor {}\n",
+                       plan.options.edge_separation, plan.options.sliver_factor, plan.options.grid,
+                       plan.options.max_drift_factor);
+    const std::string name = plan.write.layer_name.empty() ? plan.layer->GetName() : plan.write.layer_name;
+    out << fmt::format("output:    {} ({}), layer '{}', FIDs {}\n", plan.write.path, plan.output_driver,
+                       name, plan.keeps_fids ? "kept" : "in field orig_fid");
+    out << fmt::format("threads:   {}\n", plan.config.run.threads == 0 ? std::string("all cores")
+                                                                        : std::to_string(plan.config.run.threads));
+}
+
+} // namespace trisnap

@@ -1,0 +1,44 @@
+#pragma once
+// The plan of a snap run: everything that can be checked before reading the data (options,
+// config, input layer, filters, tolerance in layer units, output format and path). `validate`
+// stops here and prints it; `snap` executes it.
+#include "app/options.hpp"
+#include "config/config.hpp"
+#include "core/snap.hpp"
+#include "io/writer.hpp"
+
+#include <gdal_priv.h>
+#include <ogrsf_frmts.h>
+
+#include <iosfwd>
+#include <string>
+
+namespace trisnap {
+
+struct Plan {
+    Config config;
+    GDALDatasetUniquePtr dataset;
+    OGRLayer* layer = nullptr;
+    std::string input_path;
+    std::string input_driver;
+    std::string crs;
+    std::int64_t feature_count = -1; ///< after filters; -1 when unknown without a full read
+    double tolerance = 0.0;          ///< layer units
+    std::string tolerance_note;      ///< how the tolerance was derived
+    SnapOptions options;
+    WriteOptions write;
+    std::string output_driver;
+    bool keeps_fids = false;
+};
+
+/// Checks options and config, opens the input, chooses the layer, applies --where/--bbox,
+/// resolves the tolerance and checks the output. Throws argument_error, config_error, io_error.
+Plan make_plan(const SnapArgs& args, const Config& config);
+
+/// Human-readable plan (the output of `validate`).
+void print_plan(const Plan& plan, std::ostream& out);
+
+/// Metres per degree of longitude at latitude `lat` on the WGS84 equator radius sphere.
+double metres_per_degree(double lat);
+
+} // namespace trisnap

@@ -1,0 +1,136 @@
+#include "app/report.hpp"
+
+#include "app/version.hpp"
+#include "io/io_error.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <ostream>
+#include <sys/resource.h>
+
+namespace trisnap {
+namespace {
+
+using nlohmann::ordered_json;
+
+ordered_json config_json(const Plan& plan)
+{
+    const SnapConfig& s = plan.config.snap;
+    ordered_json snap;
+    if (s.tolerance) snap["tolerance"] = *s.tolerance;
+    if (s.tolerance_m) snap["tolerance_m"] = *s.tolerance_m;
+    snap["edge_separation"] = s.edge_separation;
+    snap["sliver_factor"] = s.sliver_factor;
+    snap["grid"] = s.grid;
+    snap["max_drift_factor"] = s.max_drift_factor;
+    snap["max_operations"] = s.max_operations;
+    return {{"snap", snap}, {"run", {{"threads", plan.config.run.threads}}},
+            {"tolerance_layer_units", plan.tolerance}, {"tolerance_note", plan.tolerance_note}};
+}
+
+ordered_json counts_json(const RunResult& r)
+{
+    return {{"input", r.input}, {"written", r.written}, {"snapped", r.snapped},
+            {"rejected", r.rejected}, {"collapsed", r.collapsed}, {"unwritable", r.unwritable},
+            {"problems", r.problems.size()}, {"input_vertices", r.input_vertices},
+            {"fids_renumbered", r.fids_renumbered}};
+}
+
+ordered_json stats_json(const SnapStats& s)
+{
+    return {{"input_features", s.input_features}, {"input_vertices", s.input_vertices},
+            {"triangulation_vertices", s.triangulation_vertices}, {"output_vertices", s.output_vertices},
+            {"intersections", s.intersections}, {"merges", s.merges}, {"splits", s.splits},
+            {"rounds", s.rounds}, {"collapsed_features", s.collapsed_features},
+            {"max_displacement", s.max_displacement}};
+}
+
+ordered_json timings_json(const RunResult& r, double total)
+{
+    const SnapStats& s = r.stats;
+    return {{"read", r.seconds_read}, {"snap", r.seconds_snap}, {"write", r.seconds_write}, {"total", total},
+            {"engine", {{"triangulate", s.seconds_triangulate}, {"snap", s.seconds_snap},
+                        {"label", s.seconds_label}, {"extract", s.seconds_extract}}}};
+}
+
+ordered_json coordinate(double v) { return std::isfinite(v) ? ordered_json(v) : ordered_json(nullptr); }
+
+ordered_json problems_json(const std::vector<Problem>& problems)
+{
+    ordered_json list = ordered_json::array();
+    for (const Problem& p : problems)
+        list.push_back({{"fid", p.feature_id}, {"code", static_cast<int>(p.code)}, {"name", problem_name(p.code)},
+                        {"message", p.message}, {"x", coordinate(p.x)}, {"y", coordinate(p.y)}});
+    return list;
+}
+
+ordered_json by_code_json(const std::vector<Problem>& problems)
+{
+    ordered_json out = ordered_json::object();
+    for (const auto& [code, n] : count_by_code(problems))
+        out[std::to_string(code)] = {{"name", problem_name(static_cast<ProblemCode>(code))}, {"count", n}};
+    return out;
+}
+
+ordered_json io_json(const Plan& plan, const RunResult& r)
+{
+    const std::string out_layer = plan.write.layer_name.empty() ? plan.layer->GetName() : plan.write.layer_name;
+    return {{"input", {{"path", plan.input_path}, {"driver", plan.input_driver}, {"layer", plan.layer->GetName()},
+                       {"crs", plan.crs}, {"features", r.input}}},
+            {"output", {{"path", plan.write.path}, {"driver", plan.output_driver}, {"layer", out_layer},
+                        {"fids", plan.keeps_fids && !r.fids_renumbered ? "kept" : "orig_fid"},
+                        {"features", r.written}}}};
+}
+
+} // namespace
+
+double peak_memory_mb()
+{
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return static_cast<double>(usage.ru_maxrss) / 1024.0; // Linux reports KiB
+}
+
+std::map<int, std::size_t> count_by_code(const std::vector<Problem>& problems)
+{
+    std::map<int, std::size_t> counts;
+    for (const Problem& p : problems) ++counts[static_cast<int>(p.code)];
+    return counts;
+}
+
+void write_report(const std::string& path, const Plan& plan, const RunResult& result, double total_seconds)
+{
+    ordered_json report = {{"tool", "trisnap"}, {"version", k_version}, {"command", "snap"}};
+    report.update(io_json(plan, result));
+    report["config"] = config_json(plan);
+    report["counts"] = counts_json(result);
+    report["engine"] = stats_json(result.stats);
+    report["timings_s"] = timings_json(result, total_seconds);
+    report["peak_memory_mb"] = peak_memory_mb();
+    report["problems_by_code"] = by_code_json(result.problems);
+    report["problems"] = problems_json(result.problems);
+    std::ofstream file(path);
+    file << report.dump(2) << "\n";
+    if (!file) throw io_error(path, "", "cannot write the report");
+}
+
+void print_summary(std::ostream& out, const Plan& plan, const RunResult& r, double total_seconds)
+{
+    const std::size_t not_written = r.input - r.written;
+    out << fmt::format("{} features in, {} written, {} not written ({} rejected, {} collapsed, {} unwritable)\n",
+                       r.input, r.written, not_written, r.rejected, r.collapsed, r.unwritable);
+    std::string codes;
+    for (const auto& [code, n] : count_by_code(r.problems))
+        codes += fmt::format("{}{} {} x{}", codes.empty() ? "" : ", ", code,
+                             problem_name(static_cast<ProblemCode>(code)), n);
+    out << fmt::format("{} problems{}{}\n", r.problems.size(), codes.empty() ? "" : ": ", codes);
+    out << fmt::format("tolerance {} ({}); time {:.2f} s (read {:.2f}, snap {:.2f}, write {:.2f}); peak memory {:.0f} MB\n",
+                       plan.tolerance, plan.tolerance_note, total_seconds, r.seconds_read, r.seconds_snap,
+                       r.seconds_write, peak_memory_mb());
+    out << fmt::format("output: {} ({})\n", plan.write.path, plan.output_driver);
+}
+
+} // namespace trisnap

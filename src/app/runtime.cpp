@@ -1,0 +1,51 @@
+// Process-wide settings shared by the commands: logging and thread limits.
+#include "app/command.hpp"
+
+#include <cpl_conv.h>
+#include <cpl_error.h>
+#include <spdlog/sinks/stdout_sinks.h>
+#include <spdlog/spdlog.h>
+#include <tbb/global_control.h>
+
+#include <string>
+
+namespace trisnap {
+namespace {
+
+/// GDAL messages that no ScopedErrorCapture caught: debug logs, never raw stderr lines.
+void CPL_STDCALL log_gdal_message(CPLErr severity, CPLErrorNum, const char* message)
+{
+    if (severity == CE_Debug) return;
+    spdlog::debug("GDAL {}: {}", severity == CE_Warning ? "warning" : "error", message ? message : "");
+}
+
+} // namespace
+
+void setup_logging(int verbose, int quiet)
+{
+    auto logger = spdlog::stderr_logger_st("trisnap");
+    logger->set_pattern("trisnap: %l: %v");
+    spdlog::level::level_enum level = spdlog::level::warn;
+    if (quiet > 0) level = spdlog::level::err;
+    else if (verbose == 1) level = spdlog::level::info;
+    else if (verbose >= 2) level = spdlog::level::debug;
+    logger->set_level(level);
+    spdlog::set_default_logger(logger);
+    CPLSetErrorHandler(log_gdal_message);
+}
+
+struct ThreadLimit::Impl {
+    std::unique_ptr<tbb::global_control> control;
+};
+
+ThreadLimit::ThreadLimit(int threads) : m_impl(std::make_unique<Impl>())
+{
+    if (threads <= 0) return;
+    m_impl->control = std::make_unique<tbb::global_control>(
+        tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    CPLSetConfigOption("GDAL_NUM_THREADS", std::to_string(threads).c_str());
+}
+
+ThreadLimit::~ThreadLimit() = default;
+
+} // namespace trisnap

@@ -1,0 +1,45 @@
+#pragma once
+// Plain configuration structs. Resolution order: defaults < `--config FILE.toml` < flags.
+// Every field has the same name in TOML ([section] key) and on the command line
+// (--key-with-dashes); configs/README.md documents each one.
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace trisnap {
+
+/// [snap]: what the engine does (see core/snap.hpp SnapOptions for the exact meaning).
+struct SnapConfig {
+    std::optional<double> tolerance;   ///< layer units; required (here or as tolerance_m)
+    std::optional<double> tolerance_m; ///< metres, geographic CRS only; converted at mean latitude
+    double edge_separation = 0.5;      ///< vertex-edge separation as a factor of the tolerance
+    double sliver_factor = 1.0;        ///< sliver apex snaps when <= factor x tolerance; 0 = off
+    double grid = 0.0;                 ///< output grid step (0 = none), <= tolerance / 4
+    double max_drift_factor = 2.0;     ///< report vertices moved further than factor x tolerance
+    std::int64_t max_operations = 0;   ///< engine operation cap; 0 = automatic
+};
+
+/// [run]: how the run uses the machine.
+struct RunConfig {
+    int threads = 0; ///< worker threads for GDAL and oneTBB; 0 = all cores
+};
+
+struct Config {
+    SnapConfig snap;
+    RunConfig run;
+};
+
+/// The built-in defaults (taken from the engine's SnapOptions so they cannot drift apart).
+Config default_config();
+
+/// Overlays the keys present in `path` on `config`. Throws config_error (file, line, key) for
+/// unknown keys, wrong types and unreadable or malformed files.
+void load_config_file(const std::string& path, Config& config);
+
+/// The resolved configuration as a TOML document (unset optionals are left out).
+std::string to_toml(const Config& config);
+
+/// Checks ranges; returns "" when usable, else a one-line reason naming the key.
+std::string check_config(const Config& config);
+
+} // namespace trisnap

@@ -1,0 +1,159 @@
+#include "io/ogr_geometry.hpp"
+
+#include <cmath>
+#include <memory>
+
+namespace trisnap {
+namespace {
+
+bool read_path(const OGRSimpleCurve& curve, Path& out)
+{
+    const int n = curve.getNumPoints();
+    out.reserve(static_cast<std::size_t>(n));
+    const bool has_z = curve.Is3D();
+    for (int i = 0; i < n; ++i) {
+        Coord c{curve.getX(i), curve.getY(i)};
+        if (has_z) c.z = curve.getZ(i);
+        if (!std::isfinite(c.x) || !std::isfinite(c.y)) return false;
+        out.push_back(c);
+    }
+    return true;
+}
+
+bool read_polygon(const OGRPolygon& polygon, Polygon& out)
+{
+    for (const OGRLinearRing* ring : polygon) {
+        out.rings.emplace_back();
+        if (!read_path(*ring, out.rings.back())) return false;
+    }
+    return true;
+}
+
+bool read_linear(const OGRGeometry& g, Geometry& out)
+{
+    switch (wkbFlatten(g.getGeometryType())) {
+    case wkbPolygon:
+        out.polygons.emplace_back();
+        return read_polygon(*g.toPolygon(), out.polygons.back());
+    case wkbMultiPolygon:
+        for (const OGRPolygon* p : *g.toMultiPolygon()) {
+            out.polygons.emplace_back();
+            if (!read_polygon(*p, out.polygons.back())) return false;
+        }
+        return true;
+    case wkbLineString:
+        out.lines.emplace_back();
+        return read_path(*g.toLineString(), out.lines.back());
+    default: // wkbMultiLineString, checked by the caller
+        for (const OGRLineString* l : *g.toMultiLineString()) {
+            out.lines.emplace_back();
+            if (!read_path(*l, out.lines.back())) return false;
+        }
+        return true;
+    }
+}
+
+Geometry::Type engine_type(OGRwkbGeometryType flat)
+{
+    switch (flat) {
+    case wkbPolygon: return Geometry::Type::Polygon;
+    case wkbMultiPolygon: return Geometry::Type::MultiPolygon;
+    case wkbLineString: return Geometry::Type::LineString;
+    case wkbMultiLineString: return Geometry::Type::MultiLineString;
+    default: return Geometry::Type::Empty;
+    }
+}
+
+OGRLineString* make_curve(const Path& path, bool has_z, OGRLineString* curve)
+{
+    curve->setNumPoints(static_cast<int>(path.size()), FALSE);
+    for (std::size_t i = 0; i < path.size(); ++i) {
+        const Coord& c = path[i];
+        if (has_z) curve->setPoint(static_cast<int>(i), c.x, c.y, std::isnan(c.z) ? 0.0 : c.z);
+        else curve->setPoint(static_cast<int>(i), c.x, c.y);
+    }
+    return curve;
+}
+
+OGRPolygon* make_polygon(const Polygon& polygon, bool has_z)
+{
+    auto* out = new OGRPolygon();
+    for (const Path& ring : polygon.rings)
+        out->addRingDirectly(static_cast<OGRLinearRing*>(make_curve(ring, has_z, new OGRLinearRing())));
+    return out;
+}
+
+OGRGeometry* make_polygonal(const Geometry& g, bool multi)
+{
+    if (!multi && g.polygons.size() == 1) return make_polygon(g.polygons[0], g.has_z);
+    auto* out = new OGRMultiPolygon();
+    for (const Polygon& p : g.polygons) out->addGeometryDirectly(make_polygon(p, g.has_z));
+    return out;
+}
+
+OGRGeometry* make_lineal(const Geometry& g, bool multi)
+{
+    if (!multi && g.lines.size() == 1) return make_curve(g.lines[0], g.has_z, new OGRLineString());
+    auto* out = new OGRMultiLineString();
+    for (const Path& l : g.lines) out->addGeometryDirectly(make_curve(l, g.has_z, new OGRLineString()));
+    return out;
+}
+
+} // namespace
+
+GeometryVerdict from_ogr(const OGRGeometry* source, Geometry& out)
+{
+    if (!source || source->IsEmpty()) return GeometryVerdict::empty;
+    const OGRwkbGeometryType type = wkbFlatten(source->getGeometryType());
+    if (type == wkbPoint || type == wkbMultiPoint) return GeometryVerdict::pass_through;
+    std::unique_ptr<OGRGeometry> linear;
+    if (OGR_GT_IsNonLinear(type)) linear.reset(source->getLinearGeometry());
+    const OGRGeometry& g = linear ? *linear : *source;
+    out = Geometry{};
+    out.type = engine_type(wkbFlatten(g.getGeometryType()));
+    if (out.type == Geometry::Type::Empty) return GeometryVerdict::unsupported;
+    out.has_z = g.Is3D();
+    if (!read_linear(g, out)) return GeometryVerdict::non_finite;
+    return GeometryVerdict::snap;
+}
+
+OGRGeometry* to_ogr(const Geometry& geometry, OGRwkbGeometryType like)
+{
+    if (geometry.empty()) return nullptr;
+    const bool multi = like == wkbMultiPolygon || like == wkbMultiLineString ||
+                       like == wkbMultiSurface || like == wkbMultiCurve;
+    if (!geometry.polygons.empty()) return make_polygonal(geometry, multi);
+    return make_lineal(geometry, multi);
+}
+
+std::size_t count_vertices(const OGRGeometry* geometry)
+{
+    if (!geometry) return 0;
+    const OGRwkbGeometryType type = wkbFlatten(geometry->getGeometryType());
+    if (OGR_GT_IsSubClassOf(type, wkbCurve)) {
+        if (type == wkbCompoundCurve) {
+            std::size_t n = 0;
+            for (const OGRCurve* c : *geometry->toCompoundCurve()) n += count_vertices(c);
+            return n;
+        }
+        return static_cast<std::size_t>(geometry->toSimpleCurve()->getNumPoints());
+    }
+    if (OGR_GT_IsSubClassOf(type, wkbCurvePolygon)) {
+        std::size_t n = 0;
+        for (const OGRCurve* ring : *geometry->toCurvePolygon()) n += count_vertices(ring);
+        return n;
+    }
+    if (OGR_GT_IsSubClassOf(type, wkbGeometryCollection)) {
+        std::size_t n = 0;
+        for (const OGRGeometry* part : *geometry->toGeometryCollection()) n += count_vertices(part);
+        return n;
+    }
+    if (type == wkbPolyhedralSurface || type == wkbTIN) {
+        std::size_t n = 0;
+        for (const OGRPolygon* part : *geometry->toPolyhedralSurface()) n += count_vertices(part);
+        return n;
+    }
+    return type == wkbPoint ? 1 : 0;
+}
+
+} // namespace trisnap

@@ -21,6 +21,11 @@ void apply_filters(const SnapArgs& args, OGRLayer& layer)
         ScopedErrorCapture capture;
         if (layer.SetAttributeFilter(args.where.c_str()) != OGRERR_NONE)
             throw argument_error("--where '" + args.where + "': " + capture.last_error("invalid filter"));
+        // Some drivers (GPKG) only compile the filter when reading: probe one feature.
+        OGRFeatureUniquePtr probe(layer.GetNextFeature());
+        layer.ResetReading();
+        if (!capture.errors().empty())
+            throw argument_error("--where '" + args.where + "': " + capture.last_error());
     }
     if (!args.bbox.empty()) {
         const std::vector<double> b = parse_bbox(args.bbox);

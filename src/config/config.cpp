@@ -3,6 +3,7 @@
 #include "config/errors.hpp"
 #include "core/snap.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <functional>
 #include <sstream>
@@ -12,11 +13,22 @@
 
 namespace trisnap {
 
+namespace {
+
+std::string config_message(const std::string& file, long line, const std::string& key, const std::string& reason)
+{
+    std::string out = file;
+    if (line > 0) out.append(":").append(std::to_string(line));
+    out.append(": ");
+    if (!key.empty()) out.append("key '").append(key).append("': ");
+    return out.append(reason);
+}
+
+} // namespace
+
 config_error::config_error(const std::string& file, long line, const std::string& key,
                            const std::string& reason)
-    : std::runtime_error(file + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " +
-                         (key.empty() ? reason : "key '" + key + "': " + reason)),
-      m_file(file), m_line(line), m_key(key)
+    : std::runtime_error(config_message(file, line, key, reason)), m_file(file), m_line(line), m_key(key)
 {
 }
 
@@ -86,6 +98,16 @@ std::string num(double v)
     return out.str();
 }
 
+/// Shortest text that reads back as the same double, always with a '.' or exponent (TOML float).
+std::string toml_float(double v)
+{
+    char buffer[64];
+    auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, v);
+    std::string text(buffer, end);
+    if (text.find_first_of(".eEn") == std::string::npos) text += ".0";
+    return text;
+}
+
 long line_of(const toml::node& node) { return static_cast<long>(node.source().begin.line); }
 
 void load_section(const std::string& path, const std::string& section, const toml::table& table,
@@ -139,22 +161,17 @@ void load_config_file(const std::string& path, Config& config)
 
 std::string to_toml(const Config& config)
 {
-    toml::table snap;
-    if (config.snap.tolerance) snap.insert("tolerance", *config.snap.tolerance);
-    if (config.snap.tolerance_m) snap.insert("tolerance_m", *config.snap.tolerance_m);
-    snap.insert("edge_separation", config.snap.edge_separation);
-    snap.insert("sliver_factor", config.snap.sliver_factor);
-    snap.insert("grid", config.snap.grid);
-    snap.insert("max_drift_factor", config.snap.max_drift_factor);
-    snap.insert("max_operations", config.snap.max_operations);
-    toml::table run;
-    run.insert("threads", config.run.threads);
-    toml::table root;
-    root.insert("snap", std::move(snap));
-    root.insert("run", std::move(run));
-    std::ostringstream out;
-    out << root << "\n";
-    return out.str();
+    const SnapConfig& s = config.snap;
+    std::string out = "[snap]\n";
+    if (s.tolerance) out += "tolerance = " + toml_float(*s.tolerance) + "\n";
+    if (s.tolerance_m) out += "tolerance_m = " + toml_float(*s.tolerance_m) + "\n";
+    out += "edge_separation = " + toml_float(s.edge_separation) + "\n";
+    out += "sliver_factor = " + toml_float(s.sliver_factor) + "\n";
+    out += "grid = " + toml_float(s.grid) + "\n";
+    out += "max_drift_factor = " + toml_float(s.max_drift_factor) + "\n";
+    out += "max_operations = " + std::to_string(s.max_operations) + "\n";
+    out += "\n[run]\nthreads = " + std::to_string(config.run.threads) + "\n";
+    return out;
 }
 
 std::string check_config(const Config& config)

@@ -33,11 +33,6 @@ void configure_osm_driver()
     set_default_option("OGR_INTERLEAVED_READING", "YES");
 }
 
-bool is_point_type(OGRwkbGeometryType flat)
-{
-    return flat == wkbPoint || flat == wkbMultiPoint || flat == wkbNone;
-}
-
 } // namespace
 
 bool is_osm_path(const std::string& path)
@@ -72,8 +67,15 @@ std::string list_layers(GDALDataset& dataset)
 
 bool is_snappable_layer_type(OGRwkbGeometryType type)
 {
-    const OGRwkbGeometryType flat = wkbFlatten(type);
-    return !is_point_type(flat);
+    switch (wkbFlatten(type)) {
+    case wkbUnknown: // "any geometry": decided per feature
+    case wkbPolygon: case wkbMultiPolygon: case wkbCurvePolygon: case wkbMultiSurface:
+    case wkbLineString: case wkbMultiLineString: case wkbCompoundCurve: case wkbCircularString:
+    case wkbMultiCurve:
+        return true;
+    default:
+        return false;
+    }
 }
 
 OGRLayer& find_layer(GDALDataset& dataset, const std::string& path, const std::string& name)
@@ -102,7 +104,7 @@ OGRLayer& select_layer(GDALDataset& dataset, const std::string& path, const std:
     if (!is_snappable_layer_type(chosen->GetGeomType()))
         throw io_error(path, chosen->GetName(),
                        std::string("unsupported geometry type ") + OGRGeometryTypeToName(chosen->GetGeomType()) +
-                           ": trisnap snaps polygons and lines");
+                           ": trisnap snaps polygons and lines (and curves)");
     return *chosen;
 }
 

@@ -1,5 +1,7 @@
 #include "io/reader.hpp"
 
+#include "io/gdal_errors.hpp"
+#include "io/io_error.hpp"
 #include "io/ogr_geometry.hpp"
 
 #include <cmath>
@@ -101,7 +103,10 @@ OGRFeatureUniquePtr LayerReader::next_ogr_feature()
 
 std::optional<InputFeature> LayerReader::next()
 {
+    ScopedErrorCapture capture;
     OGRFeatureUniquePtr f = next_ogr_feature();
+    // A null feature after an error is a broken file, not the end of the layer.
+    if (!f && !capture.errors().empty()) throw io_error(m_dataset.GetDescription(), m_layer.GetName(), capture.last_error());
     if (!f) return std::nullopt;
     return classify_feature(std::move(f));
 }

@@ -75,7 +75,9 @@ LayerWriter::~LayerWriter()
 void LayerWriter::create_dataset(GDALDriver& driver)
 {
     const fs::path parent = m_target.has_parent_path() ? m_target.parent_path() : fs::path(".");
-    m_temp_dir = parent / ("." + m_target.filename().string() + ".trisnap-tmp-" + std::to_string(getpid()));
+    std::string name = ".";
+    name.append(m_target.filename().string()).append(".trisnap-tmp-").append(std::to_string(getpid()));
+    m_temp_dir = parent / name;
     std::error_code ec;
     fs::remove_all(m_temp_dir, ec);
     if (!fs::create_directory(m_temp_dir, ec))
@@ -99,6 +101,10 @@ std::vector<std::string> LayerWriter::layer_options(GDALDriver& driver, OGRLayer
     // Shapefiles stamp today's date in the .dbf header; a fixed date makes bytes repeatable.
     if (!has_option(options, "DBF_DATE_LAST_UPDATE") && driver_has_layer_option(driver, "DBF_DATE_LAST_UPDATE"))
         options.push_back("DBF_DATE_LAST_UPDATE=2000-01-01");
+    // OGR hands us UTF-8; without this the Shapefile driver would recode to ISO-8859-1.
+    if (!has_option(options, "ENCODING") && driver_has_layer_option(driver, "ENCODING") &&
+        m_driver_name == "ESRI Shapefile")
+        options.push_back("ENCODING=UTF-8");
     return options;
 }
 

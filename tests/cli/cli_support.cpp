@@ -1,0 +1,198 @@
+#include "cli_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <set>
+#include <sstream>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace trisnap::test {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string quote(const std::string& arg)
+{
+    std::string out = "'";
+    for (char c : arg) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return out + "'";
+}
+
+std::string field_text(const OGRFeature& f, int i)
+{
+    if (!f.IsFieldSetAndNotNull(i)) return "<null>";
+    const OGRFieldType type = f.GetFieldDefnRef(i)->GetType();
+    if (type == OFTReal) {
+        char buffer[64];
+        std::snprintf(buffer, sizeof buffer, "%.17g", f.GetFieldAsDouble(i));
+        return buffer;
+    }
+    if (type == OFTInteger || type == OFTInteger64) return std::to_string(f.GetFieldAsInteger64(i));
+    return f.GetFieldAsString(i);
+}
+
+OGRGeometry* fixture_geometry(const FixtureFeature& feature)
+{
+    OGRGeometry* g = nullptr;
+    if (feature.wkt.empty()) return nullptr;
+    OGRGeometryFactory::createFromWkt(feature.wkt.c_str(), nullptr, &g);
+    if (g && feature.nan_coordinate && wkbFlatten(g->getGeometryType()) == wkbPolygon)
+        g->toPolygon()->getExteriorRing()->setPoint(1, std::numeric_limits<double>::quiet_NaN(), 0.0);
+    return g;
+}
+
+void create_fields(OGRLayer& layer)
+{
+    const std::pair<const char*, OGRFieldType> fields[] = {
+        {"id", OFTInteger}, {"big", OFTInteger64}, {"area", OFTReal}, {"name", OFTString}, {"day", OFTDate}};
+    for (const auto& [name, type] : fields) {
+        OGRFieldDefn defn(name, type);
+        ASSERT_EQ(layer.CreateField(&defn), OGRERR_NONE) << name;
+    }
+}
+
+} // namespace
+
+std::vector<std::string> RunOutput::err_lines() const
+{
+    std::vector<std::string> lines;
+    std::istringstream in(err);
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    return lines;
+}
+
+TempDir::TempDir()
+{
+    std::string pattern = (fs::temp_directory_path() / "trisnap-cli-XXXXXX").string();
+    m_path = mkdtemp(pattern.data());
+}
+
+TempDir::~TempDir()
+{
+    std::error_code ec;
+    fs::remove_all(m_path, ec);
+}
+
+RunOutput run_trisnap(const TempDir& dir, const std::vector<std::string>& args)
+{
+    std::string command = quote(TRISNAP_EXE);
+    for (const auto& a : args) command += " " + quote(a);
+    const std::string out = dir.path("stdout.txt");
+    const std::string err = dir.path("stderr.txt");
+    command += " >" + quote(out) + " 2>" + quote(err) + " </dev/null";
+    const int status = std::system(command.c_str());
+    RunOutput result;
+    result.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    result.out = file_bytes(out);
+    result.err = file_bytes(err);
+    return result;
+}
+
+std::string data_dir() { return TRISNAP_DATA_DIR; }
+std::string configs_dir() { return TRISNAP_CONFIGS_DIR; }
+bool exists(const std::string& path) { return fs::exists(path); }
+
+void write_fixture(const std::string& path, const std::string& driver_name, const std::string& layer_name,
+                   int epsg, OGRwkbGeometryType type, const std::vector<FixtureFeature>& features)
+{
+    GDALAllRegister();
+    GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(driver_name.c_str());
+    ASSERT_NE(driver, nullptr) << driver_name;
+    GDALDatasetUniquePtr ds(driver->Create(path.c_str(), 0, 0, 0, GDT_Unknown, nullptr));
+    ASSERT_TRUE(ds) << path;
+    OGRSpatialReference srs;
+    srs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    if (epsg) srs.importFromEPSG(epsg);
+    OGRLayer* layer = ds->CreateLayer(layer_name.c_str(), epsg ? &srs : nullptr, type, nullptr);
+    ASSERT_NE(layer, nullptr);
+    create_fields(*layer);
+    for (const FixtureFeature& f : features) {
+        OGRFeatureUniquePtr feature(OGRFeature::CreateFeature(layer->GetLayerDefn()));
+        for (const auto& [name, value] : f.fields) feature->SetField(name.c_str(), value.c_str());
+        feature->SetGeometryDirectly(fixture_geometry(f));
+        ASSERT_EQ(layer->CreateFeature(feature.get()), OGRERR_NONE);
+    }
+}
+
+std::vector<FixtureFeature> snapping_fixture()
+{
+    auto attrs = [](int id, const std::string& name) {
+        return std::map<std::string, std::string>{{"id", std::to_string(id)},
+                                                  {"big", std::to_string(10000000000LL + id)},
+                                                  {"area", std::to_string(id * 1.25)},
+                                                  {"name", name},
+                                                  {"day", "2020-01-0" + std::to_string(1 + id % 9)}};
+    };
+    return {
+        {"POLYGON ((0 0,10 0,10 10,0 10,0 0))", attrs(1, "Zürich")},
+        {"POLYGON ((10.004 0,20 0,20 10,10.004 10,10.004 0))", attrs(2, "Ærøskøbing")},
+        {"POLYGON ((0 10.003,10 10.003,10 20,0 20,0 10.003))", attrs(3, "plain")},
+        {"POLYGON ((30 0,30.005 0,30.005 0.005,30 0.005,30 0))", attrs(4, "tiny")},
+        {"MULTIPOLYGON (((40 0,50 0,50 10,40 10,40 0),(42 2,42 8,48 8,48 2,42 2)),((60 0,70 0,70 5,60 5,60 0)))", attrs(5, "with hole")},
+        {"POLYGON ((0 30,10 30,10 40,0 40,0 30))", {{"id", "6"}}}, // nulls in most fields
+    };
+}
+
+std::vector<ReadFeature> read_layer(const std::string& path, const std::string& layer_name)
+{
+    GDALAllRegister();
+    std::vector<ReadFeature> out;
+    GDALDatasetUniquePtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR));
+    if (!ds) {
+        ADD_FAILURE() << "cannot open " << path;
+        return out;
+    }
+    OGRLayer* layer = layer_name.empty() ? ds->GetLayer(0) : ds->GetLayerByName(layer_name.c_str());
+    if (!layer) {
+        ADD_FAILURE() << "no layer " << layer_name << " in " << path;
+        return out;
+    }
+    while (OGRFeatureUniquePtr f{layer->GetNextFeature()}) {
+        ReadFeature r;
+        r.fid = f->GetFID();
+        for (int i = 0; i < f->GetFieldCount(); ++i) r.fields[f->GetFieldDefnRef(i)->GetNameRef()] = field_text(*f, i);
+        const OGRGeometry* g = f->GetGeometryRef();
+        r.has_geometry = g != nullptr && !g->IsEmpty();
+        if (r.has_geometry) {
+            r.valid = g->IsValid();
+            r.wkt = g->exportToWkt();
+        }
+        out.push_back(std::move(r));
+    }
+    return out;
+}
+
+nlohmann::json read_json(const std::string& path)
+{
+    std::ifstream in(path);
+    return nlohmann::json::parse(in, nullptr, false);
+}
+
+std::vector<std::int64_t> missing_but_reported(const nlohmann::json& report, const std::vector<ReadFeature>& output)
+{
+    std::set<std::int64_t> present;
+    for (const ReadFeature& f : output) {
+        auto it = f.fields.find("orig_fid");
+        present.insert(it != f.fields.end() ? std::stoll(it->second) : f.fid);
+    }
+    std::set<std::int64_t> reported;
+    for (const auto& p : report["problems"])
+        if (!present.count(p["fid"].get<std::int64_t>())) reported.insert(p["fid"].get<std::int64_t>());
+    return {reported.begin(), reported.end()};
+}
+
+std::string file_bytes(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream out;
+    out << in.rdbuf();
+    return out.str();
+}
+
+} // namespace trisnap::test

@@ -1,0 +1,79 @@
+#pragma once
+// Helpers for the CLI tests: run the binary, make fixtures with GDAL, read results back and
+// check them independently of trisnap's own code (GEOS validity through OGR, field equality,
+// feature accounting against the JSON report).
+#include <gdal_priv.h>
+#include <nlohmann/json.hpp>
+#include <ogrsf_frmts.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace trisnap::test {
+
+struct RunOutput {
+    int code = -1;
+    std::string out;
+    std::string err;
+    /// Lines of stderr (without the trailing newline).
+    std::vector<std::string> err_lines() const;
+};
+
+/// A fresh directory, removed with everything in it at the end of the test.
+class TempDir {
+public:
+    TempDir();
+    ~TempDir();
+    std::string path(const std::string& name) const { return (m_path / name).string(); }
+
+private:
+    std::filesystem::path m_path;
+};
+
+/// Runs the trisnap binary with `args`; stdout and stderr go through files in `dir`.
+RunOutput run_trisnap(const TempDir& dir, const std::vector<std::string>& args);
+
+std::string data_dir();
+std::string configs_dir();
+bool exists(const std::string& path);
+
+/// One feature to write into a fixture: WKT ("" = null geometry) and field values by name.
+struct FixtureFeature {
+    std::string wkt;
+    std::map<std::string, std::string> fields;
+    bool nan_coordinate = false; ///< replace the first x by NaN (WKT cannot say NaN)
+};
+
+/// Writes a one-layer fixture. Fields: id (Integer), big (Integer64), area (Real),
+/// name (String), day (Date). `epsg` 0 = no CRS.
+void write_fixture(const std::string& path, const std::string& driver, const std::string& layer,
+                   int epsg, OGRwkbGeometryType type, const std::vector<FixtureFeature>& features);
+
+/// A small layer with what snapping is for: two squares 0.004 apart, a sliver, a line, a
+/// polygon that collapses at t = 0.01, and UTF-8 names.
+std::vector<FixtureFeature> snapping_fixture();
+
+/// Everything read back from a layer: FID, the value of every field as text (null = "<null>"),
+/// geometry validity and WKT.
+struct ReadFeature {
+    std::int64_t fid = -1;
+    std::map<std::string, std::string> fields;
+    bool has_geometry = false;
+    bool valid = true;
+    std::string wkt;
+};
+std::vector<ReadFeature> read_layer(const std::string& path, const std::string& layer = "");
+
+/// The report file as JSON.
+nlohmann::json read_json(const std::string& path);
+
+/// The FIDs of features reported in `report` that are not in `output` (by FID or orig_fid).
+std::vector<std::int64_t> missing_but_reported(const nlohmann::json& report, const std::vector<ReadFeature>& output);
+
+/// Bytes of a file, for determinism checks.
+std::string file_bytes(const std::string& path);
+
+} // namespace trisnap::test

@@ -1,0 +1,128 @@
+#include "checker_geos.hpp"
+
+#include <stdexcept>
+
+namespace trisnap::checker_detail {
+
+GeosContext::GeosContext() : m_handle(GEOS_init_r()) {
+    GEOSContext_setErrorMessageHandler_r(m_handle, &GeosContext::on_error, this);
+}
+
+GeosContext::~GeosContext() {
+    GEOS_finish_r(m_handle);
+}
+
+void GeosContext::on_error(const char* message, void* self) {
+    static_cast<GeosContext*>(self)->m_last_error = message ? message : "";
+}
+
+namespace {
+
+void add_sequence(const GeosContext& ctx, const GEOSGeometry* line, std::uint32_t feature,
+                  std::vector<Segment>& out) {
+    const GEOSCoordSequence* seq = GEOSGeom_getCoordSeq_r(ctx.get(), line);
+    unsigned int n = 0;
+    if (!seq || !GEOSCoordSeq_getSize_r(ctx.get(), seq, &n) || n == 0)
+        return;
+    double px = 0, py = 0;
+    GEOSCoordSeq_getXY_r(ctx.get(), seq, 0, &px, &py);
+    for (unsigned int i = 1; i < n; ++i) {
+        double x = 0, y = 0;
+        GEOSCoordSeq_getXY_r(ctx.get(), seq, i, &x, &y);
+        // Repeated points make zero-length segments: they add no vertex and no edge.
+        if (x != px || y != py)
+            out.push_back(Segment{px, py, x, y, feature});
+        px = x;
+        py = y;
+    }
+}
+
+void add_segments(const GeosContext& ctx, const GEOSGeometry* g, std::uint32_t feature,
+                  std::vector<Segment>& out) {
+    const int type = GEOSGeomTypeId_r(ctx.get(), g);
+    if (type == GEOS_LINESTRING || type == GEOS_LINEARRING) {
+        add_sequence(ctx, g, feature, out);
+    } else if (type == GEOS_POLYGON) {
+        add_sequence(ctx, GEOSGetExteriorRing_r(ctx.get(), g), feature, out);
+        const int holes = GEOSGetNumInteriorRings_r(ctx.get(), g);
+        for (int i = 0; i < holes; ++i)
+            add_sequence(ctx, GEOSGetInteriorRingN_r(ctx.get(), g, i), feature, out);
+    } else if (type == GEOS_MULTIPOLYGON || type == GEOS_MULTILINESTRING ||
+               type == GEOS_GEOMETRYCOLLECTION) {
+        const int parts = GEOSGetNumGeometries_r(ctx.get(), g);
+        for (int i = 0; i < parts; ++i)
+            add_segments(ctx, GEOSGetGeometryN_r(ctx.get(), g, i), feature, out);
+    }
+}
+
+// Inputs may be invalid (bowties, overlapping rings): GEOS overlay would throw on them, so pair
+// tests run on a valid polygonal stand-in that keeps the polygonal structure.
+GeomPtr repair(const GeosContext& ctx, const GEOSGeometry* g) {
+    GEOSMakeValidParams* params = GEOSMakeValidParams_create_r(ctx.get());
+    GEOSMakeValidParams_setMethod_r(ctx.get(), params, GEOS_MAKE_VALID_STRUCTURE);
+    GEOSMakeValidParams_setKeepCollapsed_r(ctx.get(), params, 0);
+    GeomPtr fixed = own(ctx, GEOSMakeValidWithParams_r(ctx.get(), g, params));
+    GEOSMakeValidParams_destroy_r(ctx.get(), params);
+    return fixed;
+}
+
+void read_feature(GeosContext& ctx, GEOSWKTReader* reader, const CheckedFeature& in,
+                  bool strict, SideFeature& f) {
+    f.id = in.id;
+    if (in.wkt.find_first_not_of(" \t\r\n") == std::string::npos)
+        return;
+    f.geom = own(ctx, GEOSWKTReader_read_r(ctx.get(), reader, in.wkt.c_str()));
+    if (!f.geom) {
+        f.parse_error = ctx.last_error();
+        if (strict)
+            throw std::invalid_argument("input feature " + std::to_string(in.id) +
+                                        ": GEOS cannot read its WKT: " + f.parse_error);
+        return;
+    }
+    if (GEOSisEmpty_r(ctx.get(), f.geom.get()) == 1) {
+        f.geom.reset();
+        return;
+    }
+    const int type = GEOSGeomTypeId_r(ctx.get(), f.geom.get());
+    f.polygonal = type == GEOS_POLYGON || type == GEOS_MULTIPOLYGON;
+    f.lineal = type == GEOS_LINESTRING || type == GEOS_MULTILINESTRING;
+    if (f.polygonal && GEOSisValid_r(ctx.get(), f.geom.get()) != 1)
+        f.repaired = repair(ctx, f.geom.get());
+}
+
+} // namespace
+
+Side load_side(GeosContext& ctx, const std::vector<CheckedFeature>& features, bool strict) {
+    Side side;
+    side.features.resize(features.size());
+    GEOSWKTReader* reader = GEOSWKTReader_create_r(ctx.get());
+    try {
+        for (std::size_t i = 0; i < features.size(); ++i) {
+            SideFeature& f = side.features[i];
+            read_feature(ctx, reader, features[i], strict, f);
+            side.by_id.emplace(f.id, i);
+            f.seg_begin = side.segments.size();
+            if (f.present())
+                add_segments(ctx, f.geom.get(), static_cast<std::uint32_t>(i), side.segments);
+            f.seg_end = side.segments.size();
+        }
+    } catch (...) {
+        GEOSWKTReader_destroy_r(ctx.get(), reader);
+        throw;
+    }
+    GEOSWKTReader_destroy_r(ctx.get(), reader);
+    return side;
+}
+
+std::string invalid_reason(const GeosContext& ctx, const SideFeature& f) {
+    if (!f.present())
+        return {};
+    if (GEOSisValid_r(ctx.get(), f.geom.get()) == 1)
+        return {};
+    char* reason = GEOSisValidReason_r(ctx.get(), f.geom.get());
+    std::string text = reason ? reason : "invalid";
+    GEOSFree_r(ctx.get(), reason);
+    return text;
+}
+
+} // namespace trisnap::checker_detail

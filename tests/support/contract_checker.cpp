@@ -1,0 +1,146 @@
+#include "contract_checker.hpp"
+
+#include "checker_detail.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <unordered_set>
+
+namespace trisnap {
+namespace checker_detail {
+
+void Examples::add(const std::string& kind, const std::string& line) {
+    if (m_counts[kind]++ < per_kind)
+        m_lines.push_back(line);
+}
+
+std::string point_text(double x, double y) {
+    char buf[64];
+    std::string out = "(";
+    out.append(buf, std::to_chars(buf, buf + sizeof buf, x).ptr);
+    out += ' ';
+    out.append(buf, std::to_chars(buf, buf + sizeof buf, y).ptr);
+    return out + ")";
+}
+
+std::string distance_text(double d, double t) {
+    char buf[64];
+    std::string out;
+    out.append(buf, std::to_chars(buf, buf + sizeof buf, d / t, std::chars_format::general, 4).ptr);
+    out += "t (";
+    out.append(buf, std::to_chars(buf, buf + sizeof buf, d, std::chars_format::general, 6).ptr);
+    return out + ")";
+}
+
+namespace {
+
+void count_presence(const Side& in, const Side& out, const std::vector<std::int64_t>& problem_ids,
+                    ContractReport& report, Examples& examples) {
+    const std::unordered_set<std::int64_t> problems(problem_ids.begin(), problem_ids.end());
+    report.n_in = in.features.size();
+    for (const SideFeature& f : out.features)
+        report.n_out += f.present() ? 1 : 0;
+    for (const SideFeature& f : in.features) {
+        auto it = out.by_id.find(f.id);
+        const bool output = it != out.by_id.end() && out.features[it->second].present();
+        if (output || problems.count(f.id))
+            continue;
+        ++report.n_missing;
+        examples.add("missing", "missing: id " + std::to_string(f.id) +
+                                    " has no output and no problem");
+    }
+}
+
+/// Why an output feature is not an acceptable output of its input, or "" when it is.
+std::string output_defect(const GeosContext& ctx, const Side& in, const SideFeature& f) {
+    if (!f.parse_error.empty())
+        return "unreadable WKT: " + f.parse_error;
+    if (!f.present())
+        return {};
+    auto it = in.by_id.find(f.id);
+    if (it == in.by_id.end())
+        return "id is not in the input";
+    const SideFeature& source = in.features[it->second];
+    if (source.present() && (source.polygonal != f.polygonal || source.lineal != f.lineal))
+        return "geometry dimension differs from the input's";
+    if (!f.polygonal && !f.lineal)
+        return "neither polygonal nor lineal";
+    return invalid_reason(ctx, f);
+}
+
+void check_validity(const GeosContext& ctx, const Side& in, const Side& out,
+                    ContractReport& report, Examples& examples) {
+    for (const SideFeature& f : out.features) {
+        const std::string defect = output_defect(ctx, in, f);
+        if (defect.empty())
+            continue;
+        ++report.n_invalid;
+        examples.add("invalid", "invalid: id " + std::to_string(f.id) + ": " + defect);
+    }
+}
+
+std::string min_text(double d, double t) {
+    return std::isinf(d) ? std::string("none within 2t") : distance_text(d, t);
+}
+
+} // namespace
+} // namespace checker_detail
+
+ContractReport check_contract(const std::vector<CheckedFeature>& input,
+                              const std::vector<CheckedFeature>& output,
+                              const std::vector<std::int64_t>& problem_ids, double tolerance,
+                              double edge_factor) {
+    using namespace checker_detail;
+    if (!(tolerance > 0.0) || !std::isfinite(tolerance))
+        throw std::invalid_argument("check_contract: tolerance must be finite and > 0");
+    GeosContext ctx;
+    const Side in = load_side(ctx, input, true);
+    const Side out = load_side(ctx, output, false);
+    ContractReport report;
+    report.tolerance = tolerance;
+    Examples examples(report.examples);
+    count_presence(in, out, problem_ids, report, examples);
+    check_validity(ctx, in, out, report, examples);
+    measure_spacing(out, tolerance, edge_factor, report, examples);
+    measure_hausdorff(in, out, tolerance, report, examples);
+    check_pairs(ctx, in, out, tolerance, report, examples);
+    return report;
+}
+
+bool ContractReport::ok(double t, double edge_factor, double max_drift) const {
+    const double slack = 1.0 - 1e-9; // distances computed in floating point
+    return n_missing == 0 && n_invalid == 0 && min_vertex_vertex >= t * slack &&
+           min_vertex_edge >= edge_factor * t * slack && max_hausdorff <= max_drift &&
+           n_overlaps_new == 0 && n_shared_lost == 0;
+}
+
+std::string ContractReport::summary() const {
+    using checker_detail::distance_text;
+    using checker_detail::min_text;
+    const double t = tolerance > 0.0 ? tolerance : 1.0;
+    std::ostringstream s;
+    s << "contract at t=" << tolerance << ": " << n_in << " in, " << n_out << " out, "
+      << n_missing << " missing, " << n_invalid << " invalid, " << n_overlaps_new
+      << " new overlaps, " << n_shared_lost << " shared boundaries lost\n"
+      << "  min vertex-vertex " << min_text(min_vertex_vertex, t) << " (" << n_close_vertex_pairs
+      << " pairs < t), min vertex-edge " << min_text(min_vertex_edge, t) << " ("
+      << n_close_vertex_edge << " pairs < edge factor), max Hausdorff "
+      << distance_text(max_hausdorff, t) << " (id " << max_hausdorff_id << ")\n";
+    for (const std::string& line : examples)
+        s << "  " << line << '\n';
+    return s.str();
+}
+
+::testing::AssertionResult contract_holds(const ContractReport& report, double t,
+                                          double edge_factor, double max_drift_factor) {
+    if (report.ok(t, edge_factor, max_drift_factor * t))
+        return ::testing::AssertionSuccess();
+    return ::testing::AssertionFailure()
+           << "contract broken (edge factor " << edge_factor << ", max drift "
+           << max_drift_factor << "t)\n"
+           << report.summary();
+}
+
+} // namespace trisnap

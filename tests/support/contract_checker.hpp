@@ -1,0 +1,74 @@
+#pragma once
+// An independent, brute-force-in-spirit checker of the trisnap contract. It shares no code with
+// the engine on purpose: features come in as WKT strings and are read by GEOS, distances and
+// indexes are written here from scratch, so a bug in the engine's geometry types or predicates
+// cannot hide itself. Every measurement goes through a spatial index (a uniform grid over
+// segment pieces, GEOS STRtree over features), so 2*10^5 vertices take seconds, not hours.
+//
+// What it measures, for output `out` of snapping input `in` at tolerance t:
+//  - n_missing: input ids neither in the output (non-empty) nor among problem ids;
+//  - n_invalid: output features GEOS calls invalid (or unparsable, of another dimension than
+//    their input, or with an id that is not in the input);
+//  - min_vertex_vertex: smallest distance between two DISTINCT output coordinates (equal
+//    coordinates are one vertex: shared boundaries and closing points are not defects);
+//  - min_vertex_edge: smallest distance from an output vertex to an output segment it is not an
+//    endpoint of (exact coordinate equality decides "endpoint of");
+//  - max_hausdorff: largest symmetric Hausdorff distance between a feature's input and output;
+//  - n_overlaps_new: output polygon pairs overlapping with area > 1e-9 t^2 whose inputs did not;
+//  - n_shared_lost: input polygon pairs sharing > t/2 of boundary whose outputs share no
+//    boundary of positive length any more, or now overlap. Pairs where either output is empty
+//    (collapsed, and reported as a problem) are not counted.
+// Distances are searched up to 2t: when no pair is closer, the minimum is reported as +infinity.
+#include <gtest/gtest.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace trisnap {
+
+struct CheckedFeature {
+    std::int64_t id = 0;
+    std::string wkt; ///< empty text or "... EMPTY" means the feature has no output geometry
+};
+
+struct ContractReport {
+    double tolerance = 0.0;
+    std::size_t n_in = 0;
+    std::size_t n_out = 0; ///< output features with a non-empty geometry
+    std::size_t n_missing = 0;
+    std::size_t n_invalid = 0;
+    std::size_t n_overlaps_new = 0;
+    std::size_t n_shared_lost = 0;
+    std::size_t n_close_vertex_pairs = 0; ///< distinct vertex pairs closer than t
+    std::size_t n_close_vertex_edge = 0;  ///< vertex-segment pairs closer than edge_factor*t
+    double min_vertex_vertex = 0.0;       ///< +infinity when no pair is within 2t
+    double min_vertex_edge = 0.0;         ///< +infinity when no pair is within 2t
+    double max_hausdorff = 0.0;
+    std::int64_t max_hausdorff_id = 0;    ///< the feature where max_hausdorff was measured
+    /// One line per defect with ids and coordinates, at most a few per kind (about 20 in all).
+    std::vector<std::string> examples;
+
+    /// True when every promise holds: nothing missing or invalid, vertices >= t apart, vertices
+    /// >= edge_factor*t from edges, Hausdorff <= max_drift, no new overlaps, no lost boundaries.
+    bool ok(double t, double edge_factor, double max_drift) const;
+    /// A few lines: counts, minima in units of t, then the examples.
+    std::string summary() const;
+};
+
+/// Measures the contract. `edge_factor` only decides which vertex-edge pairs are counted in
+/// n_close_vertex_edge and listed as examples; ok() decides pass or fail. Throws
+/// std::invalid_argument when an INPUT WKT does not parse or tolerance is not > 0 (a bad test),
+/// while an unparsable output is counted as invalid.
+ContractReport check_contract(const std::vector<CheckedFeature>& input,
+                              const std::vector<CheckedFeature>& output,
+                              const std::vector<std::int64_t>& problem_ids, double tolerance,
+                              double edge_factor = 0.5);
+
+/// GoogleTest adaptor: EXPECT_TRUE(contract_holds(report, t)) prints the summary on failure.
+::testing::AssertionResult contract_holds(const ContractReport& report, double t,
+                                          double edge_factor = 0.5,
+                                          double max_drift_factor = 2.0);
+
+} // namespace trisnap

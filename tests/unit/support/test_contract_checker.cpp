@@ -1,0 +1,185 @@
+// The checker on hand-made outputs whose defects are known exactly.
+#include "contract_checker.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+namespace trisnap {
+namespace {
+
+constexpr double t = 1.0;
+
+std::string box(double x0, double y0, double x1, double y1) {
+    auto p = [](double x, double y) { return std::to_string(x) + " " + std::to_string(y); };
+    return "POLYGON ((" + p(x0, y0) + ", " + p(x1, y0) + ", " + p(x1, y1) + ", " + p(x0, y1) +
+           ", " + p(x0, y0) + "))";
+}
+
+/// Two unit-free squares side by side sharing the edge x = 10.
+std::vector<CheckedFeature> neighbours() {
+    return {{1, box(0, 0, 10, 10)}, {2, box(10, 0, 20, 10)}};
+}
+
+TEST(ContractChecker, IdenticalOutputHoldsTheContract) {
+    const ContractReport r = check_contract(neighbours(), neighbours(), {}, t);
+    EXPECT_TRUE(contract_holds(r, t));
+    EXPECT_EQ(r.n_in, 2u);
+    EXPECT_EQ(r.n_out, 2u);
+    EXPECT_EQ(r.max_hausdorff, 0.0);
+    EXPECT_TRUE(std::isinf(r.min_vertex_vertex)); // nearest distinct vertices are 10t apart
+    EXPECT_TRUE(r.examples.empty()) << r.summary();
+}
+
+TEST(ContractChecker, SharedVertexAndClosingPointAreOneVertex) {
+    const std::vector<CheckedFeature> small = {{1, box(0, 0, 1.5, 1.5)}, {2, box(1.5, 0, 3, 1.5)}};
+    const ContractReport r = check_contract(small, small, {}, t);
+    EXPECT_DOUBLE_EQ(r.min_vertex_vertex, 1.5);
+    EXPECT_DOUBLE_EQ(r.min_vertex_edge, 1.5);
+    EXPECT_TRUE(contract_holds(r, t, 1.0));
+}
+
+TEST(ContractChecker, MeasuresTwoVerticesCloserThanT) {
+    const std::vector<CheckedFeature> out = {
+        {1, box(0, 0, 10, 10)}, {2, "POLYGON ((10.3 10, 20 12, 15 20, 10.3 10))"}};
+    const ContractReport r = check_contract(out, out, {}, t);
+    EXPECT_NEAR(r.min_vertex_vertex, 0.3 * t, 1e-12);
+    EXPECT_EQ(r.n_close_vertex_pairs, 1u);
+    EXPECT_FALSE(r.ok(t, 0.25, 2 * t));
+    ASSERT_FALSE(r.examples.empty());
+    EXPECT_NE(r.examples[0].find("vertex-vertex 0.3t"), std::string::npos) << r.summary();
+}
+
+TEST(ContractChecker, MeasuresAVertexCloseToAnEdge) {
+    const std::vector<CheckedFeature> out = {
+        {1, box(0, 0, 10, 10)}, {2, "POLYGON ((10.2 5, 20 0, 20 10, 10.2 5))"}};
+    const ContractReport r = check_contract(out, out, {}, t);
+    EXPECT_NEAR(r.min_vertex_edge, 0.2 * t, 1e-12);
+    EXPECT_TRUE(std::isinf(r.min_vertex_vertex));
+    EXPECT_EQ(r.n_close_vertex_edge, 1u);
+    EXPECT_FALSE(r.ok(t, 0.5, 2 * t));
+    EXPECT_TRUE(r.ok(t, 0.2, 2 * t));
+}
+
+TEST(ContractChecker, FindsAVertexNearTheMiddleOfAVeryLongEdge) {
+    const std::vector<CheckedFeature> out = {
+        {1, box(0, 0, 100000, 10)}, {2, "POLYGON ((50000 10.3, 50010 20, 49990 20, 50000 10.3))"}};
+    const ContractReport r = check_contract(out, out, {}, t);
+    EXPECT_NEAR(r.min_vertex_edge, 0.3 * t, 1e-9);
+    EXPECT_EQ(r.n_close_vertex_edge, 1u);
+}
+
+TEST(ContractChecker, InvalidInputIsRepairedForPairTests) {
+    // A bowtie input next to a square: the checker must not trip over GEOS on the bowtie.
+    const std::vector<CheckedFeature> in = {{1, "POLYGON ((0 0, 10 10, 10 0, 0 10, 0 0))"},
+                                            {2, box(10, 0, 20, 10)}};
+    const std::vector<CheckedFeature> out = {{1, "POLYGON ((0 0, 10 0, 10 10, 0 10, 0 0))"},
+                                             {2, box(10, 0, 20, 10)}};
+    const ContractReport r = check_contract(in, out, {}, t);
+    EXPECT_EQ(r.n_invalid, 0u);
+    EXPECT_EQ(r.n_overlaps_new, 0u);
+    EXPECT_EQ(r.n_shared_lost, 0u) << r.summary();
+}
+
+TEST(ContractChecker, PolygonInsideAnotherIsAnOldOverlapNotANewOne) {
+    const std::vector<CheckedFeature> nested = {{1, box(0, 0, 100, 100)}, {2, box(40, 40, 50, 50)}};
+    const ContractReport r = check_contract(nested, nested, {}, t);
+    EXPECT_EQ(r.n_overlaps_new, 0u);
+    const std::vector<CheckedFeature> apart = {{1, box(0, 0, 100, 100)}, {2, box(140, 40, 150, 50)}};
+    EXPECT_EQ(check_contract(apart, nested, {}, t).n_overlaps_new, 1u);
+}
+
+TEST(ContractChecker, BowtieIsInvalid) {
+    const ContractReport r = check_contract({{1, box(0, 0, 10, 10)}},
+                                            {{1, "POLYGON ((0 0, 10 10, 10 0, 0 10, 0 0))"}}, {}, t);
+    EXPECT_EQ(r.n_invalid, 1u);
+    EXPECT_FALSE(contract_holds(r, t));
+}
+
+TEST(ContractChecker, CollapsedLineIsInvalid) {
+    const std::vector<CheckedFeature> in = {{1, "LINESTRING (0 0, 10 0)"},
+                                            {2, "MULTILINESTRING ((0 5, 10 5), (0 8, 10 8))"}};
+    const std::vector<CheckedFeature> out = {{1, "LINESTRING (3 0, 3 0)"},
+                                             {2, "MULTILINESTRING ((0 5, 10 5), (4 8, 4 8))"}};
+    EXPECT_EQ(check_contract(in, out, {}, t).n_invalid, 2u);
+    EXPECT_EQ(check_contract(in, in, {}, t).n_invalid, 0u);
+}
+
+TEST(ContractChecker, UnreadableOrRetypedOutputIsInvalid) {
+    const ContractReport r = check_contract(
+        neighbours(), {{1, "POLYGON ((0 0, 1"}, {2, "LINESTRING (10 0, 20 0)"}, {3, box(0, 0, 1, 1)}},
+        {1}, t);
+    EXPECT_EQ(r.n_invalid, 3u) << r.summary();
+}
+
+TEST(ContractChecker, SharedEdgeMovedApartIsLost) {
+    const ContractReport r =
+        check_contract(neighbours(), {{1, box(0, 0, 10, 10)}, {2, box(10.5, 0, 20, 10)}}, {}, t);
+    EXPECT_EQ(r.n_shared_lost, 1u) << r.summary();
+    EXPECT_EQ(r.n_overlaps_new, 0u);
+    EXPECT_FALSE(contract_holds(r, t));
+}
+
+TEST(ContractChecker, OverlappingOutputsAreNew) {
+    const ContractReport r =
+        check_contract(neighbours(), {{1, box(0, 0, 10, 10)}, {2, box(9, 0, 19, 10)}}, {}, t);
+    EXPECT_EQ(r.n_overlaps_new, 1u) << r.summary();
+    EXPECT_EQ(r.n_shared_lost, 1u); // they still touch along y=0, but now overlap
+}
+
+TEST(ContractChecker, OverlapsAlreadyInTheInputAreNotNew) {
+    const std::vector<CheckedFeature> overlapping = {{1, box(0, 0, 10, 10)}, {2, box(5, 5, 15, 15)}};
+    const ContractReport r = check_contract(overlapping, overlapping, {}, t);
+    EXPECT_EQ(r.n_overlaps_new, 0u);
+    EXPECT_TRUE(contract_holds(r, t)) << r.summary();
+}
+
+TEST(ContractChecker, MissingIdUnlessReported) {
+    const std::vector<CheckedFeature> out = {{1, box(0, 0, 10, 10)}, {2, "POLYGON EMPTY"}};
+    EXPECT_EQ(check_contract(neighbours(), out, {}, t).n_missing, 1u);
+    EXPECT_EQ(check_contract(neighbours(), {out[0]}, {}, t).n_missing, 1u);
+    const ContractReport reported = check_contract(neighbours(), out, {2}, t);
+    EXPECT_EQ(reported.n_missing, 0u);
+    EXPECT_EQ(reported.n_shared_lost, 0u); // a collapsed neighbour is reported, not "lost"
+    EXPECT_TRUE(contract_holds(reported, t)) << reported.summary();
+}
+
+TEST(ContractChecker, ShiftedSquareHausdorffIsTheShift) {
+    const ContractReport r =
+        check_contract({{1, box(0, 0, 10, 10)}}, {{1, box(0.7, 0, 10.7, 10)}}, {}, t);
+    EXPECT_NEAR(r.max_hausdorff, 0.7, 1e-12);
+    EXPECT_EQ(r.max_hausdorff_id, 1);
+    EXPECT_TRUE(r.ok(t, 0.5, 0.7));
+    EXPECT_FALSE(r.ok(t, 0.5, 0.69));
+}
+
+TEST(ContractChecker, HausdorffFindsTheFarPointInsideASegment) {
+    // Every vertex of either side is within 1 of the other side, but the middle of the input
+    // segment is sqrt(10) from the output: only bisecting the segment finds it.
+    const ContractReport r = check_contract({{1, "LINESTRING (0 0, 10 0)"}},
+                                            {{1, "MULTILINESTRING ((0 0, 2 1), (8 1, 10 0))"}}, {}, t);
+    EXPECT_NEAR(r.max_hausdorff, std::sqrt(10.0), 1e-3 * t);
+}
+
+TEST(ContractChecker, HausdorffIgnoresVerticesAddedOnTheSameLine) {
+    const std::string plain = "POLYGON ((0 0, 10 0, 10 10, 0 10, 0 0))";
+    const std::string split = "POLYGON ((0 0, 10 0, 10 10, 6 10, 4 10, 0 10, 0 0))";
+    EXPECT_EQ(check_contract({{1, plain}}, {{1, split}}, {}, t).max_hausdorff, 0.0);
+}
+
+TEST(ContractChecker, SummaryNamesCountsAndExamples) {
+    const ContractReport r =
+        check_contract(neighbours(), {{1, box(0, 0, 10, 10)}, {2, box(10.5, 0, 20, 10)}}, {}, t);
+    const std::string s = r.summary();
+    EXPECT_NE(s.find("1 shared boundaries lost"), std::string::npos) << s;
+    EXPECT_NE(s.find("ids 1 and 2"), std::string::npos) << s;
+}
+
+TEST(ContractChecker, RejectsBadInputAndTolerance) {
+    EXPECT_THROW(check_contract({{1, "POLYGON ((0 0"}}, {}, {}, t), std::invalid_argument);
+    EXPECT_THROW(check_contract(neighbours(), neighbours(), {}, 0.0), std::invalid_argument);
+}
+
+} // namespace
+} // namespace trisnap

@@ -32,7 +32,8 @@ void measure_spacing(const Side& out, double t, double edge_factor, ContractRepo
                      Examples& examples);
 
 /// max_hausdorff over ids present in both sides.
-void measure_hausdorff(const Side& in, const Side& out, double t, ContractReport& report,
+void measure_hausdorff(const Side& in, const Side& out, double t,
+                       const std::vector<std::int64_t>& exempt, ContractReport& report,
                        Examples& examples);
 
 /// n_overlaps_new and n_shared_lost.

@@ -122,11 +122,13 @@ void Directed::bisect(const End& p, const End& q, int depth) {
 }
 
 /// (input index, output index) of every id with segments on both sides, in input order.
-std::vector<std::pair<std::size_t, std::size_t>> matched(const Side& in, const Side& out) {
+std::vector<std::pair<std::size_t, std::size_t>> matched(const Side& in, const Side& out,
+                                                         const std::vector<std::int64_t>& exempt) {
     std::vector<std::pair<std::size_t, std::size_t>> pairs;
     for (std::size_t i = 0; i < in.features.size(); ++i) {
         const SideFeature& f = in.features[i];
         auto it = out.by_id.find(f.id);
+        if (std::find(exempt.begin(), exempt.end(), f.id) != exempt.end()) continue;
         if (f.seg_begin == f.seg_end || it == out.by_id.end())
             continue;
         const SideFeature& g = out.features[it->second];
@@ -138,12 +140,13 @@ std::vector<std::pair<std::size_t, std::size_t>> matched(const Side& in, const S
 
 } // namespace
 
-void measure_hausdorff(const Side& in, const Side& out, double t, ContractReport& report,
+void measure_hausdorff(const Side& in, const Side& out, double t,
+                       const std::vector<std::int64_t>& exempt, ContractReport& report,
                        Examples& examples) {
     Maximum max;
     Directed forward(in, out, t, max);
     Directed backward(out, in, t, max);
-    const auto pairs = matched(in, out);
+    const auto pairs = matched(in, out, exempt);
     // All vertices first: a high running maximum makes the bisection prune early.
     for (const auto& [i, o] : pairs) {
         forward.vertices(i, o);

@@ -91,7 +91,8 @@ std::string min_text(double d, double t) {
 ContractReport check_contract(const std::vector<CheckedFeature>& input,
                               const std::vector<CheckedFeature>& output,
                               const std::vector<std::int64_t>& problem_ids, double tolerance,
-                              double edge_factor) {
+                              double edge_factor,
+                              const std::vector<std::int64_t>& drift_reported) {
     using namespace checker_detail;
     if (!(tolerance > 0.0) || !std::isfinite(tolerance))
         throw std::invalid_argument("check_contract: tolerance must be finite and > 0");
@@ -104,7 +105,7 @@ ContractReport check_contract(const std::vector<CheckedFeature>& input,
     count_presence(in, out, problem_ids, report, examples);
     check_validity(ctx, in, out, report, examples);
     measure_spacing(out, tolerance, edge_factor, report, examples);
-    measure_hausdorff(in, out, tolerance, report, examples);
+    measure_hausdorff(in, out, tolerance, drift_reported, report, examples);
     check_pairs(ctx, in, out, tolerance, report, examples);
     return report;
 }

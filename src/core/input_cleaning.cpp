@@ -1,0 +1,151 @@
+#include "core/input_cleaning.hpp"
+
+#include <cmath>
+#include <string>
+
+namespace trisnap::detail {
+namespace {
+
+// A coordinate c carries about |c| * 2^-52 of rounding; below ~2^8 ulps the tolerance cannot be
+// told apart from rounding noise, and the triangulation's exact predicates would see near-random
+// geometry. Such features are rejected with problem 109 rather than snapped unpredictably.
+bool too_large(double c, double tolerance) { return std::abs(c) * 0x1p-44 > tolerance; }
+
+struct Flags {
+    bool unclosed = false, repeated = false, degenerate_ring = false, degenerate_line = false;
+    bool non_finite = false, huge = false;
+    Coord where{std::nan(""), std::nan("")};
+};
+
+void scan_coords(const Path& path, double tolerance, Flags& flags)
+{
+    for (const Coord& c : path) {
+        if (!std::isfinite(c.x) || !std::isfinite(c.y)) {
+            flags.non_finite = true;
+        } else if (too_large(c.x, tolerance) || too_large(c.y, tolerance)) {
+            flags.huge = true;
+            flags.where = c;
+        } else if (std::isnan(flags.where.x)) {
+            flags.where = c;
+        }
+    }
+}
+
+std::vector<Coord> drop_repeats(const Path& path, Flags& flags)
+{
+    std::vector<Coord> out;
+    out.reserve(path.size());
+    for (const Coord& c : path) {
+        if (!out.empty() && out.back() == c) {
+            flags.repeated = true;
+            continue;
+        }
+        out.push_back(c);
+    }
+    return out;
+}
+
+// Returns the open ring (no closing point), empty when fewer than 3 distinct points remain.
+std::vector<Coord> clean_ring(const Path& ring, Flags& flags)
+{
+    std::vector<Coord> pts = drop_repeats(ring, flags);
+    if (pts.size() >= 2 && pts.front() == pts.back()) {
+        pts.pop_back();
+    } else if (!pts.empty()) {
+        flags.unclosed = true;
+    }
+    if (pts.size() < 3) {
+        flags.degenerate_ring = true;
+        pts.clear();
+    }
+    return pts;
+}
+
+void clean_polygons(const Geometry& g, CleanFeature& out, Flags& flags)
+{
+    for (const Polygon& poly : g.polygons) {
+        const auto part = static_cast<std::uint32_t>(out.shells);
+        for (std::size_t r = 0; r < poly.rings.size(); ++r) {
+            std::vector<Coord> pts = clean_ring(poly.rings[r], flags);
+            if (pts.empty()) {
+                if (r == 0) break; // no shell: the holes have nothing to be holes of
+                continue;
+            }
+            out.rings.push_back(CleanRing{std::move(pts), part, r != 0});
+            (r == 0 ? out.shells : out.holes) += 1;
+        }
+    }
+}
+
+void clean_lines(const Geometry& g, CleanFeature& out, Flags& flags)
+{
+    for (const Path& line : g.lines) {
+        std::vector<Coord> pts = drop_repeats(line, flags);
+        if (pts.size() < 2) {
+            flags.degenerate_line = true;
+            continue;
+        }
+        out.lines.push_back(std::move(pts));
+    }
+}
+
+void report(const CleanFeature& f, const Flags& flags, std::vector<Problem>& problems)
+{
+    auto add = [&](ProblemCode code, std::string message) {
+        problems.push_back(Problem{f.id, code, std::move(message), flags.where.x, flags.where.y});
+    };
+    if (flags.non_finite) add(ProblemCode::non_finite_coordinate, "NaN or infinite coordinate; feature rejected");
+    if (flags.huge) add(ProblemCode::huge_coordinate, "coordinate too large for the tolerance at double precision; feature rejected");
+    if (flags.non_finite || flags.huge) return;
+    if (flags.unclosed) add(ProblemCode::unclosed_ring, "unclosed ring was closed");
+    if (flags.repeated) add(ProblemCode::repeated_points, "consecutive duplicate points were removed");
+    if (flags.degenerate_ring) add(ProblemCode::degenerate_ring, "ring with fewer than 3 distinct points was dropped");
+    if (flags.degenerate_line) add(ProblemCode::degenerate_line, "line with fewer than 2 distinct points was dropped");
+}
+
+CleanFeature clean_feature(const Feature& in, std::size_t index, double tolerance,
+                           std::vector<Problem>& problems)
+{
+    CleanFeature out;
+    out.index = index;
+    out.id = in.id;
+    out.polygonal = in.geometry.is_polygonal();
+    const Geometry& g = in.geometry;
+    if (!g.is_polygonal() && !g.is_lineal()) {
+        out.rejected = true;
+        const bool empty = g.type == Geometry::Type::Empty;
+        problems.push_back(Problem{in.id, empty ? ProblemCode::empty_geometry : ProblemCode::unsupported_geometry,
+                                   empty ? "empty geometry" : "geometry type is not snapped",
+                                   std::nan(""), std::nan("")});
+        return out;
+    }
+    Flags flags;
+    for (const Polygon& p : g.polygons) for (const Path& r : p.rings) scan_coords(r, tolerance, flags);
+    for (const Path& l : g.lines) scan_coords(l, tolerance, flags);
+    if (!flags.non_finite && !flags.huge) {
+        if (out.polygonal) clean_polygons(g, out, flags);
+        else clean_lines(g, out, flags);
+    }
+    report(out, flags, problems);
+    out.rejected = flags.non_finite || flags.huge;
+    if (!out.rejected && out.rings.empty() && out.lines.empty()) {
+        out.rejected = true;
+        problems.push_back(Problem{in.id, ProblemCode::empty_geometry,
+                                   "nothing usable remains after cleaning", flags.where.x, flags.where.y});
+    }
+    return out;
+}
+
+} // namespace
+
+std::vector<CleanFeature> clean_input(const std::vector<Feature>& features, double tolerance,
+                                      std::vector<Problem>& problems)
+{
+    std::vector<CleanFeature> out;
+    out.reserve(features.size());
+    for (std::size_t i = 0; i < features.size(); ++i)
+        out.push_back(clean_feature(features[i], i, tolerance, problems));
+    return out;
+}
+
+} // namespace trisnap::detail

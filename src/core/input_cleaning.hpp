@@ -1,0 +1,35 @@
+#pragma once
+// Turns caller geometry into clean rings and lines for the triangulation, and reports every
+// repair: unclosed rings are closed, consecutive duplicates dropped, degenerate rings and lines
+// dropped, features with non-finite or unusably large coordinates rejected. Nothing is dropped
+// without a Problem naming the feature.
+#include "core/geometry.hpp"
+#include "core/problems.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace trisnap::detail {
+
+struct CleanRing {
+    std::vector<Coord> points; ///< open: no closing point; >= 3 distinct consecutive points
+    std::uint32_t polygon = 0; ///< index of the polygon (part) in the feature
+    bool hole = false;
+};
+
+struct CleanFeature {
+    std::size_t index = 0; ///< position in the caller's vector
+    std::int64_t id = 0;
+    bool polygonal = false;
+    bool rejected = false; ///< nothing of it goes into the triangulation
+    std::vector<CleanRing> rings;
+    std::vector<std::vector<Coord>> lines; ///< >= 2 distinct consecutive points each
+    std::size_t shells = 0;                ///< kept polygon parts
+    std::size_t holes = 0;                 ///< kept holes
+};
+
+/// Cleans every feature; `problems` receives one entry per repair kind per feature.
+std::vector<CleanFeature> clean_input(const std::vector<Feature>& features, double tolerance,
+                                      std::vector<Problem>& problems);
+
+} // namespace trisnap::detail

@@ -1,0 +1,86 @@
+#include "core/labelling.hpp"
+
+#include <algorithm>
+#include <deque>
+#include <map>
+
+namespace trisnap::detail {
+namespace {
+
+class Labeller {
+public:
+    Labeller(Mesh& mesh, FaceLabels& out) : m_mesh(mesh), m_out(out) {}
+
+    void run()
+    {
+        auto& tri = m_mesh.tri();
+        for (auto f : tri.all_face_handles()) f->info().label = cdt::k_no_id;
+        const std::uint32_t outside = intern({});
+        std::deque<cdt::Face_handle> queue{tri.infinite_face()};
+        tri.infinite_face()->info().label = outside;
+        while (!queue.empty()) {
+            const cdt::Face_handle f = queue.front();
+            queue.pop_front();
+            for (int i = 0; i < 3; ++i) visit_neighbour(f, i, queue);
+        }
+    }
+
+private:
+    void visit_neighbour(cdt::Face_handle f, int i, std::deque<cdt::Face_handle>& queue)
+    {
+        const cdt::Face_handle n = f->neighbor(i);
+        if (n->info().label != cdt::k_no_id) return;
+        n->info().label = f->is_constrained(i) ? crossed(f->info().label, f, i) : f->info().label;
+        queue.push_back(n);
+    }
+
+    // The label on the other side of constrained edge (f, i).
+    std::uint32_t crossed(std::uint32_t label, cdt::Face_handle f, int i)
+    {
+        auto& tri = m_mesh.tri();
+        const std::uint32_t a = f->vertex(tri.cw(i))->info().id, b = f->vertex(tri.ccw(i))->info().id;
+        m_mesh.owners_of_edge(a, b, m_owners);
+        m_toggle.clear();
+        for (std::uint32_t o : m_owners)
+            if (!m_mesh.owner_at(o).line) m_toggle.push_back(m_mesh.owner_at(o).feature);
+        std::sort(m_toggle.begin(), m_toggle.end());
+        std::vector<std::uint32_t> odd;
+        for (std::size_t k = 0; k < m_toggle.size();) {
+            std::size_t j = k;
+            while (j < m_toggle.size() && m_toggle[j] == m_toggle[k]) ++j;
+            if ((j - k) % 2 == 1) odd.push_back(m_toggle[k]);
+            k = j;
+        }
+        if (odd.empty()) return label;
+        std::vector<std::uint32_t> next;
+        const std::vector<std::uint32_t>& cur = m_out.sets[label];
+        std::set_symmetric_difference(cur.begin(), cur.end(), odd.begin(), odd.end(), std::back_inserter(next));
+        return intern(std::move(next));
+    }
+
+    std::uint32_t intern(std::vector<std::uint32_t> set)
+    {
+        auto [it, added] = m_index.try_emplace(set, static_cast<std::uint32_t>(m_out.sets.size()));
+        if (added) m_out.sets.push_back(std::move(set));
+        return it->second;
+    }
+
+    Mesh& m_mesh;
+    FaceLabels& m_out;
+    std::map<std::vector<std::uint32_t>, std::uint32_t> m_index;
+    std::vector<std::uint32_t> m_owners, m_toggle;
+};
+
+} // namespace
+
+FaceLabels label_faces(Mesh& mesh, std::size_t feature_count)
+{
+    FaceLabels out;
+    Labeller(mesh, out).run();
+    out.faces_of.resize(feature_count);
+    for (auto f : mesh.tri().finite_face_handles())
+        for (std::uint32_t feature : out.sets[f->info().label]) out.faces_of[feature].push_back(f);
+    return out;
+}
+
+} // namespace trisnap::detail

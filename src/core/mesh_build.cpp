@@ -1,0 +1,228 @@
+// Building the triangulation: points in a canonical order, one constraint per input edge.
+#include "core/mesh.hpp"
+
+#include <CGAL/spatial_sort.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace trisnap::detail {
+namespace {
+
+struct InputPoint {
+    double x, y, z;
+    std::uint32_t feature; ///< index into CleanFeature vector
+    std::uint32_t slot;    ///< position in the feature's input_vertices list
+};
+
+bool xy_less(const InputPoint& a, const InputPoint& b)
+{
+    if (a.x != b.x) return a.x < b.x;
+    if (a.y != b.y) return a.y < b.y;
+    return a.z < b.z || (std::isnan(b.z) && !std::isnan(a.z));
+}
+
+std::vector<InputPoint> gather_points(const std::vector<CleanFeature>& features,
+                                      std::vector<std::vector<std::uint32_t>>& input_ids)
+{
+    std::vector<InputPoint> pts;
+    input_ids.resize(features.size());
+    for (std::uint32_t f = 0; f < features.size(); ++f) {
+        std::uint32_t slot = 0;
+        auto add = [&](const Coord& c) { pts.push_back({c.x, c.y, c.z, f, slot++}); };
+        for (const CleanRing& r : features[f].rings) std::for_each(r.points.begin(), r.points.end(), add);
+        for (const auto& l : features[f].lines) std::for_each(l.begin(), l.end(), add);
+        input_ids[f].assign(slot, cdt::k_no_id);
+    }
+    std::sort(pts.begin(), pts.end(), xy_less);
+    return pts;
+}
+
+// Mean of the defined z values of one run of equal (x, y); NaN when none is defined.
+double mean_z(std::vector<InputPoint>::const_iterator first, std::vector<InputPoint>::const_iterator last)
+{
+    double sum = 0;
+    int n = 0;
+    for (auto it = first; it != last; ++it)
+        if (!std::isnan(it->z)) sum += it->z, ++n;
+    return n ? sum / n : std::nan("");
+}
+
+} // namespace
+
+double distance_point_segment(double px, double py, double ax, double ay, double bx, double by)
+{
+    const double dx = bx - ax, dy = by - ay;
+    const double len2 = dx * dx + dy * dy;
+    double s = len2 > 0 ? ((px - ax) * dx + (py - ay) * dy) / len2 : 0.0;
+    s = std::clamp(s, 0.0, 1.0);
+    return std::hypot(px - (ax + s * dx), py - (ay + s * dy));
+}
+
+Mesh::Mesh(const std::vector<CleanFeature>& features)
+{
+    insert_points(features);
+    insert_constraints(features);
+    register_created_vertices();
+}
+
+// Distinct points get ids in lexicographic (x, y) order; they are inserted in CGAL's spatial
+// sort of that order. Both orders depend only on the set of points, not on feature order.
+void Mesh::insert_points(const std::vector<CleanFeature>& features)
+{
+    const std::vector<InputPoint> pts = gather_points(features, m_input_ids);
+    std::vector<std::pair<cdt::Point, std::uint32_t>> unique;
+    std::vector<double> zs;
+    for (std::size_t i = 0; i < pts.size();) {
+        std::size_t j = i;
+        while (j < pts.size() && pts[j].x == pts[i].x && pts[j].y == pts[i].y) ++j;
+        const auto id = static_cast<std::uint32_t>(unique.size());
+        for (std::size_t k = i; k < j; ++k) m_input_ids[pts[k].feature][pts[k].slot] = id;
+        unique.emplace_back(cdt::Point(pts[i].x, pts[i].y), id);
+        zs.push_back(mean_z(pts.begin() + i, pts.begin() + j));
+        i = j;
+    }
+    std::vector<cdt::Vertex_handle> handles(unique.size());
+    auto order = unique;
+    CGAL::spatial_sort(order.begin(), order.end(),
+                       CGAL::Spatial_sort_traits_adapter_2<cdt::Kernel,
+                           CGAL::First_of_pair_property_map<std::pair<cdt::Point, std::uint32_t>>>());
+    cdt::Face_handle hint;
+    for (const auto& [p, id] : order) {
+        handles[id] = m_tri.insert(p, hint);
+        hint = handles[id]->face();
+    }
+    m_vertices.resize(unique.size());
+    for (std::uint32_t id = 0; id < unique.size(); ++id) {
+        handles[id]->info().id = id;
+        VertexRecord& r = m_vertices[id];
+        r.handle = handles[id];
+        r.x = CGAL::to_double(unique[id].first.x());
+        r.y = CGAL::to_double(unique[id].first.y());
+        r.z = zs[id];
+        r.ox0 = r.ox1 = r.x;
+        r.oy0 = r.oy1 = r.y;
+    }
+    m_forward.assign(unique.size(), cdt::k_no_id);
+    m_vertex_stamp.assign(unique.size(), 0);
+}
+
+void Mesh::insert_edge(cdt::Vertex_handle a, cdt::Vertex_handle b, std::uint32_t owner)
+{
+    if (a == b) return;
+    const cdt::Constraint_id cid = m_tri.insert_constraint(a, b);
+    m_owner_of.emplace(cid, owner);
+}
+
+// Features are inserted in (id, index) order so crossings are found in an order that does not
+// depend on how the caller ordered its features.
+void Mesh::insert_constraints(const std::vector<CleanFeature>& features)
+{
+    std::vector<std::uint32_t> order(features.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+        return features[a].id != features[b].id ? features[a].id < features[b].id : a < b;
+    });
+    for (std::uint32_t f : order) {
+        const std::vector<std::uint32_t>& ids = m_input_ids[f];
+        std::size_t base = 0;
+        auto add_path = [&](std::size_t n, std::uint32_t part, bool closed, bool line) {
+            const std::size_t edges = closed ? n : n - 1;
+            for (std::size_t i = 0; i < edges; ++i) {
+                const auto seg = static_cast<std::uint32_t>(i);
+                m_owners.push_back(Owner{f, part, seg, line});
+                const auto owner = static_cast<std::uint32_t>(m_owners.size() - 1);
+                insert_edge(m_vertices[ids[base + i]].handle,
+                            m_vertices[ids[base + (i + 1) % n]].handle, owner);
+            }
+            base += n;
+        };
+        const CleanFeature& cf = features[f];
+        for (std::uint32_t r = 0; r < cf.rings.size(); ++r) add_path(cf.rings[r].points.size(), r, true, false);
+        for (std::uint32_t l = 0; l < cf.lines.size(); ++l) add_path(cf.lines[l].size(), l, false, true);
+    }
+}
+
+// Crossing vertices CGAL created get ids after the input points, in coordinate order.
+void Mesh::register_created_vertices()
+{
+    std::vector<cdt::Vertex_handle> created;
+    for (auto v : m_tri.finite_vertex_handles())
+        if (v->info().id == cdt::k_no_id) created.push_back(v);
+    std::sort(created.begin(), created.end(), [](cdt::Vertex_handle a, cdt::Vertex_handle b) {
+        return CGAL::compare_xy(a->point(), b->point()) == CGAL::SMALLER;
+    });
+    for (cdt::Vertex_handle h : created) add_record(h, interpolated_z(h));
+    m_intersections += created.size();
+}
+
+std::uint32_t Mesh::add_record(cdt::Vertex_handle h, double z)
+{
+    const auto id = static_cast<std::uint32_t>(m_vertices.size());
+    h->info().id = id;
+    VertexRecord r;
+    r.handle = h;
+    r.x = CGAL::to_double(h->point().x());
+    r.y = CGAL::to_double(h->point().y());
+    r.z = z;
+    r.ox0 = r.ox1 = r.x;
+    r.oy0 = r.oy1 = r.y;
+    m_vertices.push_back(std::move(r));
+    m_forward.push_back(cdt::k_no_id);
+    m_vertex_stamp.push_back(0);
+    return id;
+}
+
+// A vertex created on a constraint takes the z of the constraint's end points, interpolated by
+// distance along it (a split point interpolates).
+double Mesh::interpolated_z(cdt::Vertex_handle h) const
+{
+    auto ec = m_tri.incident_edges(h), done = ec;
+    do {
+        const cdt::Face_handle f = ec->first;
+        const int i = ec->second;
+        if (m_tri.is_infinite(*ec) || !f->is_constrained(i)) continue;
+        auto ctx = m_tri.contexts_begin(f->vertex(m_tri.cw(i)), f->vertex(m_tri.ccw(i)));
+        const cdt::Vertex_handle a = *ctx->vertices_begin();
+        cdt::Vertex_handle b = a; // the skip iterator cannot step back from its end
+        for (auto it = ctx->vertices_begin(); it != ctx->vertices_end(); ++it) b = *it;
+        if (a->info().id == cdt::k_no_id || b->info().id == cdt::k_no_id) continue;
+        const VertexRecord& ra = m_vertices[a->info().id];
+        const VertexRecord& rb = m_vertices[b->info().id];
+        const double x = CGAL::to_double(h->point().x()), y = CGAL::to_double(h->point().y());
+        const double la = std::hypot(x - ra.x, y - ra.y), lb = std::hypot(x - rb.x, y - rb.y);
+        return la + lb > 0 ? ra.z + (rb.z - ra.z) * la / (la + lb) : ra.z;
+    } while (++ec != done);
+    return std::nan("");
+}
+
+std::uint32_t Mesh::current(std::uint32_t id)
+{
+    std::uint32_t root = id;
+    while (m_forward[root] != cdt::k_no_id) root = m_forward[root];
+    while (m_forward[id] != cdt::k_no_id) {
+        const std::uint32_t next = m_forward[id];
+        m_forward[id] = root;
+        id = next;
+    }
+    return root;
+}
+
+bool Mesh::is_constrained_edge(std::uint32_t a, std::uint32_t b) const
+{
+    cdt::Face_handle f;
+    int i;
+    return m_tri.is_edge(m_vertices[a].handle, m_vertices[b].handle, f, i) && f->is_constrained(i);
+}
+
+void Mesh::owners_of_edge(std::uint32_t a, std::uint32_t b, std::vector<std::uint32_t>& out) const
+{
+    out.clear();
+    if (!is_constrained_edge(a, b)) return;
+    const auto ha = m_vertices[a].handle, hb = m_vertices[b].handle;
+    for (auto it = m_tri.contexts_begin(ha, hb); it != m_tri.contexts_end(ha, hb); ++it)
+        out.push_back(m_owner_of.at(it->id()));
+}
+
+} // namespace trisnap::detail

@@ -1,0 +1,58 @@
+#pragma once
+// The numbered catalogue of geometry problems. Problems are data, not exceptions: the engine
+// reports them and carries on. 1xx input repaired or rejected, 2xx snapping, 3xx seams, 9xx I/O.
+#include <cstdint>
+#include <span>
+#include <string>
+
+namespace trisnap {
+
+enum class ProblemCode : int {
+    // 1xx: input repaired or rejected
+    unclosed_ring = 101,          ///< ring whose last point differs from its first; closed
+    repeated_points = 102,        ///< consecutive duplicate points removed
+    degenerate_ring = 103,        ///< ring with fewer than 3 distinct points; dropped
+    degenerate_line = 104,        ///< line with fewer than 2 distinct points; dropped
+    self_intersection = 105,      ///< rings cross or overlap; repaired with the odd-even rule
+    non_finite_coordinate = 106,  ///< NaN or infinite coordinate; feature rejected
+    empty_geometry = 107,         ///< null or empty geometry; nothing to snap
+    unsupported_geometry = 108,   ///< geometry type the engine does not snap (e.g. a collection)
+    huge_coordinate = 109,        ///< |coordinate| too large for the tolerance; feature rejected
+    // 2xx: snapping
+    collapsed_polygon = 201,      ///< polygon thinner than the tolerance vanished entirely
+    collapsed_line = 202,         ///< line shorter than the tolerance vanished entirely
+    part_removed = 203,           ///< some polygon parts or line parts vanished, others remain
+    hole_removed = 204,           ///< a hole thinner than the tolerance closed
+    not_converged = 205,          ///< operation cap reached before the fix-point
+    drift_exceeded = 206,         ///< a vertex moved further than max_drift_factor x t
+    separation_not_reached = 207, ///< the requested edge_separation factor does not hold here
+    topology_changed = 208,       ///< parts or holes merged or split by snapping
+    thin_part_collapsed = 209,    ///< a spike or corridor thinner than t collapsed to a line
+    // 3xx: seams between tiles
+    seam_mismatch = 301,          ///< tiles disagreed on a seam vertex; reconciled
+    seam_cascade = 302,           ///< a snap cascade reached a tile halo; tile re-run wider
+    // 9xx: I/O
+    unreadable_feature = 901,     ///< the driver could not read this feature
+    unwritable_feature = 902,     ///< the driver refused to write this feature
+};
+
+struct ProblemInfo {
+    ProblemCode code;
+    const char* name;        ///< stable snake_case name used in reports
+    const char* description; ///< one sentence for `trisnap problems`
+};
+
+/// Every code with its name and description, in numeric order.
+std::span<const ProblemInfo> problem_catalogue();
+/// The stable name of a code ("collapsed_polygon"); "unknown" for a value not in the catalogue.
+const char* problem_name(ProblemCode code);
+
+struct Problem {
+    std::int64_t feature_id = 0;
+    ProblemCode code = ProblemCode::empty_geometry;
+    std::string message; ///< what happened, for a person
+    double x = 0.0;      ///< where (layer units); NaN when there is no meaningful place
+    double y = 0.0;
+};
+
+} // namespace trisnap

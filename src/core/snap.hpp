@@ -1,0 +1,74 @@
+#pragma once
+// The engine's entry point: snap rounding of one set of features inside a constrained Delaunay
+// triangulation. See snap.cpp for the method and its guarantees.
+#include "core/geometry.hpp"
+#include "core/problems.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace trisnap {
+
+/// What the engine does; every field says what changes when you flip it.
+struct SnapOptions {
+    /// t, in layer units: output vertices end up >= t apart. Must be finite and > 0.
+    double tolerance = 0.0;
+    /// Vertex-edge promise as a factor of t: every vertex ends up >= edge_separation*t from every
+    /// edge it is not an endpoint of. 0.5 is the snap-rounding guarantee (ISR, S2Builder); larger
+    /// values (up to 1.0) separate more and move more.
+    double edge_separation = 0.5;
+    /// Case 3 (slivers): the apex of a triangle on a constrained base snaps onto the base when its
+    /// distance is <= sliver_factor*t. 0 turns case 3 off (case 4 still guarantees the promise).
+    double sliver_factor = 1.0;
+    /// Output grid step g (0 = none). Vertices are rounded to multiples of g after the fix-point;
+    /// the engine snaps with margins so that the contract still holds after rounding (g <= t/4).
+    double grid = 0.0;
+    /// Vertices that move further than this factor of t from where they came from are reported
+    /// (problem 206). The move is kept: the alternative would break separation.
+    double max_drift_factor = 2.0;
+    /// Cap on snapping operations; 0 picks 20 x input vertices + 1000. Reaching it is reported.
+    std::size_t max_operations = 0;
+};
+
+/// Counters and timings of one engine run; merge runs (tiles) with +=.
+struct SnapStats {
+    std::size_t input_features = 0;
+    std::size_t input_vertices = 0;
+    std::size_t triangulation_vertices = 0; ///< after inserting constraints (incl. intersections)
+    std::size_t output_vertices = 0;
+    std::size_t intersections = 0;          ///< vertices created where input edges cross
+    std::size_t merges = 0;                 ///< cases 1 and 2
+    std::size_t splits = 0;                 ///< cases 3 and 4
+    std::size_t rounds = 0;                 ///< full verification scans (>= 1)
+    std::size_t collapsed_features = 0;
+    double max_displacement = 0.0;          ///< largest vertex move, layer units
+    double seconds_triangulate = 0.0;
+    double seconds_snap = 0.0;
+    double seconds_label = 0.0;
+    double seconds_extract = 0.0;
+    SnapStats& operator+=(const SnapStats& other);
+};
+
+struct FeatureOutput {
+    std::int64_t id = 0;
+    Geometry geometry;              ///< Empty when the feature collapsed (then it has a problem)
+    double max_displacement = 0.0;  ///< largest move of any of its input vertices
+};
+
+struct SnapResult {
+    std::vector<FeatureOutput> features; ///< one per input feature, in input order
+    std::vector<Problem> problems;       ///< sorted by feature id, then code
+    SnapStats stats;
+};
+
+/// Checks options; returns an empty string when they are usable, else a one-line reason
+/// naming the option (e.g. "tolerance must be finite and > 0, got -1").
+std::string validate(const SnapOptions& options);
+
+/// Snaps `features` at `options.tolerance`. Throws std::invalid_argument when validate() fails;
+/// never throws for bad geometry (that is reported as problems).
+SnapResult snap(const std::vector<Feature>& features, const SnapOptions& options);
+
+} // namespace trisnap

@@ -79,6 +79,7 @@ void Mesh::merge_into(std::uint32_t target, std::span<const std::uint32_t> olds)
         t.ox0 = std::min(t.ox0, r.ox0), t.oy0 = std::min(t.oy0, r.oy0);
         t.ox1 = std::max(t.ox1, r.ox1), t.oy1 = std::max(t.oy1, r.oy1);
         if (!std::isnan(r.z)) zsum += r.z, ++zn;
+        t.weight += r.weight;
         for (std::uint32_t s : r.snapped_into) push_unique(t.snapped_into, s);
         r.alive = false;
         r.handle = cdt::Vertex_handle();
@@ -133,7 +134,10 @@ std::uint32_t Mesh::replace(std::span<const std::uint32_t> olds, double x, doubl
                 if (h == old_handles[k]) h = cdt::Vertex_handle();
     const cdt::Vertex_handle target = insert_target(x, y, split, hint);
     std::uint32_t tid = target->info().id;
-    if (tid == cdt::k_no_id) tid = add_record(target, std::nan(""));
+    if (tid == cdt::k_no_id) {
+        tid = add_record(target, std::nan(""));
+        m_vertices[tid].weight = 0; // a fresh point stands for nothing until the olds merge in
+    }
     std::vector<std::uint32_t> sources(olds.begin(), olds.end());
     merge_into(tid, sources);
     if (split != nullptr) { // the moved vertex also takes the z the edge has there

@@ -22,7 +22,7 @@ constexpr std::array k_catalogue{
     ProblemInfo{ProblemCode::not_converged, "not_converged", "operation cap reached before the fix-point; separation may not hold here"},
     ProblemInfo{ProblemCode::drift_exceeded, "drift_exceeded", "a vertex moved further than max_drift_factor x tolerance"},
     ProblemInfo{ProblemCode::separation_not_reached, "separation_not_reached", "the requested edge separation does not hold at this place"},
-    ProblemInfo{ProblemCode::topology_changed, "topology_changed", "snapping merged or split parts or holes of this feature"},
+    ProblemInfo{ProblemCode::topology_changed, "topology_changed", "a neck thinner than the tolerance collapsed: the feature split into more parts or holes"},
     ProblemInfo{ProblemCode::thin_part_collapsed, "thin_part_collapsed", "a spike or corridor thinner than the tolerance collapsed to a line and left the polygon"},
     ProblemInfo{ProblemCode::seam_mismatch, "seam_mismatch", "tiles disagreed on a seam vertex; reconciled"},
     ProblemInfo{ProblemCode::seam_cascade, "seam_cascade", "a snap cascade reached a tile halo; the tile was re-run wider"},

@@ -129,7 +129,8 @@ void report_outcome(Context& c, std::size_t f, const Geometry& g, double moved)
     const std::size_t in_parts = cf.polygonal ? cf.shells : cf.lines.size();
     if (parts < in_parts) add(ProblemCode::part_removed, std::to_string(in_parts - parts) + " of " + std::to_string(in_parts) + " parts vanished", at);
     if (holes < cf.holes) add(ProblemCode::hole_removed, std::to_string(cf.holes - holes) + " of " + std::to_string(cf.holes) + " holes closed", at);
-    if (parts > in_parts || holes > cf.holes) add(ProblemCode::topology_changed, "parts or holes were split", at);
+    if (parts > in_parts || holes > cf.holes)
+        add(ProblemCode::topology_changed, "a neck thinner than the tolerance collapsed: " + std::to_string(in_parts) + " parts became " + std::to_string(parts) + ", " + std::to_string(cf.holes) + " holes became " + std::to_string(holes), at);
     if (moved > c.options.max_drift_factor * c.options.tolerance)
         add(ProblemCode::drift_exceeded, "a vertex moved " + std::to_string(moved / c.options.tolerance) + " x tolerance", at);
 }

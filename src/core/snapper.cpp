@@ -149,7 +149,9 @@ bool Snapper::apply_face(const Event& e)
     const VertexRecord &ra = m_mesh.vertex(e.a), &rb = m_mesh.vertex(e.b), &rc = m_mesh.vertex(e.c);
     if (!tri.is_face(ra.handle, rb.handle, rc.handle)) return false;
     if (std::max({dist(ra, rb), dist(rb, rc), dist(rc, ra)}) > m_p.vertex_threshold) return false;
-    const double x = (ra.x + rb.x + rc.x) / 3.0, y = (ra.y + rb.y + rc.y) / 3.0;
+    const double w = ra.weight + rb.weight + rc.weight;
+    const double x = (ra.weight * ra.x + rb.weight * rb.x + rc.weight * rc.x) / w;
+    const double y = (ra.weight * ra.y + rb.weight * rb.y + rc.weight * rc.y) / w;
     const std::array<std::uint32_t, 3> olds{e.a, e.b, e.c};
     after_edit(m_mesh.replace(olds, x, y, nullptr, m_touched));
     m_out.merges += 2;
@@ -161,7 +163,9 @@ bool Snapper::apply_merge(const Event& e)
     if (!alive(e.a) || !alive(e.b) || !visible(e.a, e.b)) return false;
     const VertexRecord &ra = m_mesh.vertex(e.a), &rb = m_mesh.vertex(e.b);
     const std::array<std::uint32_t, 2> olds{e.a, e.b};
-    after_edit(m_mesh.replace(olds, 0.5 * (ra.x + rb.x), 0.5 * (ra.y + rb.y), nullptr, m_touched));
+    const double w = ra.weight + rb.weight;
+    const double x = (ra.weight * ra.x + rb.weight * rb.x) / w, y = (ra.weight * ra.y + rb.weight * rb.y) / w;
+    after_edit(m_mesh.replace(olds, x, y, nullptr, m_touched));
     m_out.merges += 1;
     return true;
 }

@@ -38,6 +38,6 @@ void measure_hausdorff(const Side& in, const Side& out, double t,
 
 /// n_overlaps_new and n_shared_lost.
 void check_pairs(GeosContext& ctx, const Side& in, const Side& out, double t,
-                 ContractReport& report, Examples& examples);
+                 const std::vector<std::int64_t>& exempt, ContractReport& report, Examples& examples);
 
 } // namespace trisnap::checker_detail

@@ -106,7 +106,7 @@ ContractReport check_contract(const std::vector<CheckedFeature>& input,
     check_validity(ctx, in, out, report, examples);
     measure_spacing(out, tolerance, edge_factor, report, examples);
     measure_hausdorff(in, out, tolerance, drift_reported, report, examples);
-    check_pairs(ctx, in, out, tolerance, report, examples);
+    check_pairs(ctx, in, out, tolerance, drift_reported, report, examples);
     return report;
 }
 

@@ -62,7 +62,7 @@ struct ContractReport {
 /// std::invalid_argument when an INPUT WKT does not parse or tolerance is not > 0 (a bad test),
 /// while an unparsable output is counted as invalid. Features in `drift_reported` (the engine
 /// reported that part of them collapsed, so they legitimately moved further) are left out of
-/// max_hausdorff.
+/// max_hausdorff and of n_shared_lost (new overlaps are still counted for them).
 ContractReport check_contract(const std::vector<CheckedFeature>& input,
                               const std::vector<CheckedFeature>& output,
                               const std::vector<std::int64_t>& problem_ids, double tolerance,

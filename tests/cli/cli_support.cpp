@@ -139,7 +139,8 @@ std::vector<FixtureFeature> snapping_fixture()
     };
 }
 
-std::vector<ReadFeature> read_layer(const std::string& path, const std::string& layer_name)
+std::vector<ReadFeature> read_layer(const std::string& path, const std::string& layer_name,
+                                    const std::vector<double>& bbox)
 {
     GDALAllRegister();
     std::vector<ReadFeature> out;
@@ -153,6 +154,7 @@ std::vector<ReadFeature> read_layer(const std::string& path, const std::string& 
         ADD_FAILURE() << "no layer " << layer_name << " in " << path;
         return out;
     }
+    if (bbox.size() == 4) layer->SetSpatialFilterRect(bbox[0], bbox[1], bbox[2], bbox[3]);
     while (OGRFeatureUniquePtr f{layer->GetNextFeature()}) {
         ReadFeature r;
         r.fid = f->GetFID();

@@ -65,7 +65,9 @@ struct ReadFeature {
     bool valid = true;
     std::string wkt;
 };
-std::vector<ReadFeature> read_layer(const std::string& path, const std::string& layer = "");
+/// `bbox` (xmin, ymin, xmax, ymax) applies the same OGR spatial filter as `trisnap --bbox`.
+std::vector<ReadFeature> read_layer(const std::string& path, const std::string& layer = "",
+                                    const std::vector<double>& bbox = {});
 
 /// The report file as JSON.
 nlohmann::json read_json(const std::string& path);

@@ -163,6 +163,7 @@ void write_all(Plan& plan, Loaded& loaded, const SnapResult& snapped, RunResult&
         }
         r.feature.reset();
     }
+    progress.update(static_cast<std::int64_t>(loaded.records.size()));
     progress.finish();
     writer.commit();
     result.written = writer.written();

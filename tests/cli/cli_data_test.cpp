@@ -33,6 +33,8 @@ std::vector<DataLayer> data_layers()
     return out;
 }
 
+void PrintTo(const DataLayer& d, std::ostream* os) { *os << d.file << ":" << d.layer; }
+
 class DataLayers : public ::testing::TestWithParam<DataLayer> {};
 
 TEST_P(DataLayers, SnapsAtOneCentimetre)

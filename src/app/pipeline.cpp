@@ -1,5 +1,6 @@
 #include "app/pipeline.hpp"
 
+#include "app/interrupt.hpp"
 #include "io/io_error.hpp"
 #include "io/ogr_geometry.hpp"
 #include "io/reader.hpp"
@@ -141,12 +142,14 @@ void write_all(Plan& plan, Loaded& loaded, const SnapResult& snapped, RunResult&
     const auto start = Clock::now();
     plan.write.renumber = loaded.renumber;
     LayerWriter writer(plan.write, *plan.layer);
+    const InterruptGuard interrupt;
     std::set<std::int64_t> with_problem;
     for (const Problem& p : result.problems) with_problem.insert(p.feature_id);
     progress.start("write", static_cast<std::int64_t>(loaded.records.size()));
     for (std::size_t i = 0; i < loaded.records.size(); ++i) {
         InputFeature& r = loaded.records[i];
         progress.update(static_cast<std::int64_t>(i));
+        interrupt.check();
         if (r.rejected) continue;
         bool dropped = false;
         OGRGeometry* geometry = output_geometry(loaded, snapped, i, dropped);
@@ -165,6 +168,7 @@ void write_all(Plan& plan, Loaded& loaded, const SnapResult& snapped, RunResult&
     }
     progress.update(static_cast<std::int64_t>(loaded.records.size()));
     progress.finish();
+    interrupt.check();
     writer.commit();
     result.written = writer.written();
     result.seconds_write = since(start);

@@ -6,6 +6,6 @@ bash scripts/install_deps.sh
 cmake --preset release
 cmake --build --preset release --target trisnap
 mkdir -p build/sample
-./build/release/trisnap snap data/delft_partition_sample.gpkg build/sample/delft_snapped.gpkg \
+./build/release/src/app/trisnap snap data/delft_partition_sample.gpkg build/sample/delft_snapped.gpkg \
   --tolerance 0.05 --overwrite --report build/sample/delft_report.json
 echo "sample output: build/sample/delft_snapped.gpkg (report: build/sample/delft_report.json)"

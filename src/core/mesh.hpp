@@ -36,6 +36,18 @@ struct EdgeHit {
     std::uint32_t b, c; ///< b < c
 };
 
+/// One (sub-edge, owner) pair; key = (min vertex id << 32) | max vertex id.
+struct SubEdgeOwner {
+    std::uint64_t key;
+    std::uint32_t owner;
+    bool operator<(const SubEdgeOwner& o) const { return key != o.key ? key < o.key : owner < o.owner; }
+};
+
+inline std::uint64_t edge_key(std::uint32_t a, std::uint32_t b)
+{
+    return a < b ? (std::uint64_t{a} << 32) | b : (std::uint64_t{b} << 32) | a;
+}
+
 class Mesh {
 public:
     /// `reach`: the largest snapping distance; the frame corners stay further than that.
@@ -76,6 +88,10 @@ public:
     /// Owner indices of every constraint through the sub-edge a-b (empty if not constrained).
     void owners_of_edge(std::uint32_t a, std::uint32_t b, std::vector<std::uint32_t>& out) const;
     bool is_constrained_edge(std::uint32_t a, std::uint32_t b) const;
+    /// Every constrained sub-edge with each owner of the constraints through it, sorted by key.
+    /// One sequential pass over the constraints: far cheaper than asking CGAL's hierarchy (a map
+    /// keyed by exact points) edge by edge.
+    std::vector<SubEdgeOwner> sub_edge_owners() const;
     /// Records that vertex v was split into edges of these owners (the at-most-once guard).
     void note_snapped(std::uint32_t v, const std::vector<std::uint32_t>& owners);
 

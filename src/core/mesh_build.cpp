@@ -242,6 +242,22 @@ bool Mesh::is_constrained_edge(std::uint32_t a, std::uint32_t b) const
     return m_tri.is_edge(m_vertices[a].handle, m_vertices[b].handle, f, i) && f->is_constrained(i);
 }
 
+std::vector<SubEdgeOwner> Mesh::sub_edge_owners() const
+{
+    std::vector<SubEdgeOwner> out;
+    for (auto cit = m_tri.constraints_begin(); cit != m_tri.constraints_end(); ++cit) {
+        const std::uint32_t owner = m_owner_of.at(*cit);
+        std::uint32_t prev = cdt::k_no_id;
+        for (auto it = m_tri.vertices_in_constraint_begin(*cit); it != m_tri.vertices_in_constraint_end(*cit); ++it) {
+            const std::uint32_t v = (*it)->info().id;
+            if (prev != cdt::k_no_id && prev != v) out.push_back(SubEdgeOwner{edge_key(prev, v), owner});
+            prev = v;
+        }
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
 void Mesh::owners_of_edge(std::uint32_t a, std::uint32_t b, std::vector<std::uint32_t>& out) const
 {
     out.clear();

@@ -63,19 +63,19 @@ detail::SnapperParams snapper_params(const SnapOptions& o, std::size_t vertices)
 std::vector<bool> self_intersecting(Mesh& mesh, std::size_t features)
 {
     std::vector<bool> flag(features, false);
-    std::vector<std::uint32_t> owners, seen;
     auto& tri = mesh.tri();
-    for (auto e : tri.finite_edges()) {
-        if (!e.first->is_constrained(e.second)) continue;
-        mesh.owners_of_edge(e.first->vertex(tri.cw(e.second))->info().id,
-                            e.first->vertex(tri.ccw(e.second))->info().id, owners);
+    const std::vector<detail::SubEdgeOwner> owners = mesh.sub_edge_owners();
+    std::vector<std::uint32_t> seen;
+    for (std::size_t k = 0; k < owners.size();) {
+        std::size_t j = k;
         seen.clear();
-        for (std::uint32_t o : owners) {
-            const detail::Owner& ow = mesh.owner_at(o);
+        for (; j < owners.size() && owners[j].key == owners[k].key; ++j) {
+            const detail::Owner& ow = mesh.owner_at(owners[j].owner);
             if (ow.line) continue;
             if (std::find(seen.begin(), seen.end(), ow.feature) != seen.end()) flag[ow.feature] = true;
             seen.push_back(ow.feature);
         }
+        k = j;
     }
     std::unordered_map<std::uint64_t, int> inside; // (vertex, feature) -> edges passing through
     for (auto cit = tri.constraints_begin(); cit != tri.constraints_end(); ++cit) {

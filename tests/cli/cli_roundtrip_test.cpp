@@ -50,7 +50,9 @@ void check_round_trip(const std::vector<ReadFeature>& input, const std::vector<R
             ASSERT_TRUE(out.fields.count(name)) << "field " << name << " missing";
             // FlatGeobuf has no date-only type: GDAL writes dates as midnight date-times.
             const std::string& got = out.fields.at(name);
-            if (got != value + " 00:00:00") EXPECT_EQ(got, value) << "FID " << fid << " field " << name;
+            if (got != value + " 00:00:00") {
+                EXPECT_EQ(got, value) << "FID " << fid << " field " << name;
+            }
         }
         EXPECT_TRUE(out.valid) << "FID " << fid << " invalid: " << out.wkt;
     }

@@ -126,7 +126,7 @@ Problem feature_problem(std::int64_t fid, ProblemCode code, std::string message)
     return p;
 }
 
-/// The geometry to write for record i, or nullptr with `dropped` set when it collapsed.
+/// The geometry to write for record i, or nullptr with `dropped` set when the engine returned nothing.
 OGRGeometry* output_geometry(Loaded& loaded, const SnapResult& snapped, std::size_t i, bool& dropped)
 {
     InputFeature& r = loaded.records[i];
@@ -154,7 +154,7 @@ void write_all(Plan& plan, Loaded& loaded, const SnapResult& snapped, RunResult&
         bool dropped = false;
         OGRGeometry* geometry = output_geometry(loaded, snapped, i, dropped);
         if (dropped) {
-            ++result.collapsed;
+            ++result.dropped;
             if (!with_problem.count(r.fid))
                 result.problems.push_back(feature_problem(r.fid, r.input_type == wkbPolygon || r.input_type == wkbMultiPolygon
                     ? ProblemCode::collapsed_polygon : ProblemCode::collapsed_line, "the feature vanished when snapped; not written"));

@@ -1,6 +1,6 @@
 #pragma once
 // Executes a Plan: read the layer, snap it in one engine call, write the result in input order.
-// Accounting invariant: input == written + rejected + collapsed + unwritable; every feature
+// Accounting invariant: input == written + rejected + dropped + unwritable; every feature
 // not written has at least one problem carrying its input FID.
 #include "app/plan.hpp"
 #include "app/progress.hpp"
@@ -16,7 +16,7 @@ struct RunResult {
     std::size_t input = 0;
     std::size_t written = 0;
     std::size_t rejected = 0;      ///< not given to the engine (NaN/inf coordinates)
-    std::size_t collapsed = 0;     ///< the engine returned nothing for them
+    std::size_t dropped = 0;       ///< the engine returned nothing (collapsed, huge coordinates, ...)
     std::size_t unwritable = 0;    ///< the driver refused them
     std::size_t snapped = 0;       ///< given to the engine
     std::size_t input_vertices = 0;

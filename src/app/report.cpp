@@ -34,7 +34,7 @@ ordered_json config_json(const Plan& plan)
 ordered_json counts_json(const RunResult& r)
 {
     return {{"input", r.input}, {"written", r.written}, {"snapped", r.snapped},
-            {"rejected", r.rejected}, {"collapsed", r.collapsed}, {"unwritable", r.unwritable},
+            {"rejected", r.rejected}, {"dropped", r.dropped}, {"unwritable", r.unwritable},
             {"problems", r.problems.size()}, {"input_vertices", r.input_vertices},
             {"fids_renumbered", r.fids_renumbered}};
 }
@@ -120,8 +120,8 @@ void write_report(const std::string& path, const Plan& plan, const RunResult& re
 void print_summary(std::ostream& out, const Plan& plan, const RunResult& r, double total_seconds)
 {
     const std::size_t not_written = r.input - r.written;
-    out << fmt::format("{} features in, {} written, {} not written ({} rejected, {} collapsed, {} unwritable)\n",
-                       r.input, r.written, not_written, r.rejected, r.collapsed, r.unwritable);
+    out << fmt::format("{} features in, {} written, {} not written ({} rejected on input, {} dropped by the engine, {} refused by the driver)\n",
+                       r.input, r.written, not_written, r.rejected, r.dropped, r.unwritable);
     std::string codes;
     for (const auto& [code, n] : count_by_code(r.problems))
         codes += fmt::format("{}{} {} x{}", codes.empty() ? "" : ", ", code,

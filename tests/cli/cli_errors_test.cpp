@@ -205,6 +205,23 @@ TEST_F(CliErrors, NonFiniteCoordinatesAreRejectedAndReported)
     EXPECT_EQ(missing_but_reported(j, features), std::vector<std::int64_t>{2});
 }
 
+TEST_F(CliErrors, HugeCoordinatesAreReportedNotFatal)
+{
+    const std::string in = dir.path("huge.gpkg");
+    write_fixture(in, "GPKG", "parcels", 3857, wkbPolygon,
+                  {{"POLYGON ((0 0,10 0,10 10,0 10,0 0))", {{"id", "1"}}},
+                   {"POLYGON ((1e300 0,1.0000001e300 0,1e300 1e300,1e300 0))", {{"id", "2"}}}});
+    const std::string out = dir.path("out.gpkg");
+    const std::string report = dir.path("r.json");
+    const RunOutput r = run_trisnap(dir, {"snap", in, out, "--tolerance", "0.01", "--report", report});
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    const nlohmann::json j = read_json(report);
+    EXPECT_EQ(j["problems_by_code"]["109"]["count"], 1) << j.dump(1);
+    const auto features = read_layer(out);
+    EXPECT_EQ(features.size() + missing_but_reported(j, features).size(), 2u);
+}
+
 TEST_F(CliErrors, ValidateWritesNothing)
 {
     const std::string out = dir.path("out.gpkg");

@@ -45,8 +45,9 @@ public:
         setup_logging(0, 0);
         GDALDatasetUniquePtr dataset = open_input(m_input);
         OGRLayer* only = m_layer.empty() ? nullptr : &find_layer(*dataset, m_input, m_layer);
+        const std::vector<LayerInfo> infos = scan_layers(*dataset, only); // may throw: print after
         std::cout << fmt::format("{} ({}), {} layers\n", m_input, dataset->GetDriverName(), dataset->GetLayerCount());
-        for (const LayerInfo& info : scan_layers(*dataset, only)) print_layer(info);
+        for (const LayerInfo& info : infos) print_layer(info);
         return 0;
     }
 

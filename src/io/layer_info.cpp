@@ -1,5 +1,7 @@
 #include "io/layer_info.hpp"
 
+#include "io/gdal_errors.hpp"
+#include "io/io_error.hpp"
 #include "io/ogr_geometry.hpp"
 
 #include <ogrsf_frmts.h>
@@ -63,18 +65,20 @@ std::vector<LayerInfo> scan_layers(GDALDataset& dataset, OGRLayer* only)
         index[layer] = infos.size();
         infos.push_back(describe_layer(*layer));
     }
+    ScopedErrorCapture capture; // a read that stops on an error is a broken file, not the end
     if (only && std::string(dataset.GetDriverName()) != "OSM") {
         only->ResetReading();
         while (OGRFeatureUniquePtr f{only->GetNextFeature()}) add_feature(infos[0], *f);
-        return infos;
+    } else {
+        dataset.ResetReading();
+        for (;;) {
+            OGRLayer* from = nullptr;
+            OGRFeatureUniquePtr f(dataset.GetNextFeature(&from, nullptr, nullptr, nullptr));
+            if (!f) break;
+            if (auto it = index.find(from); it != index.end()) add_feature(infos[it->second], *f);
+        }
     }
-    dataset.ResetReading();
-    for (;;) {
-        OGRLayer* from = nullptr;
-        OGRFeatureUniquePtr f(dataset.GetNextFeature(&from, nullptr, nullptr, nullptr));
-        if (!f) break;
-        if (auto it = index.find(from); it != index.end()) add_feature(infos[it->second], *f);
-    }
+    if (!capture.errors().empty()) throw io_error(dataset.GetDescription(), only ? only->GetName() : "", capture.last_error());
     return infos;
 }
 

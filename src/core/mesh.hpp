@@ -28,7 +28,7 @@ struct VertexRecord {
     double ox0 = 0, oy0 = 0, ox1 = 0, oy1 = 0; ///< box of the input positions merged here
     double weight = 1;                         ///< how many vertices were merged into this one
     bool alive = true;
-    std::vector<std::uint32_t> snapped_into;   ///< owners of edges this vertex was split into
+    std::vector<std::uint32_t> snapped_into;   ///< owners of edges this vertex was split into, once per split
 };
 
 struct EdgeHit {

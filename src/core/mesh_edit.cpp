@@ -80,7 +80,7 @@ void Mesh::merge_into(std::uint32_t target, std::span<const std::uint32_t> olds)
         t.ox1 = std::max(t.ox1, r.ox1), t.oy1 = std::max(t.oy1, r.oy1);
         if (!std::isnan(r.z)) zsum += r.z, ++zn;
         t.weight += r.weight;
-        for (std::uint32_t s : r.snapped_into) push_unique(t.snapped_into, s);
+        t.snapped_into.insert(t.snapped_into.end(), r.snapped_into.begin(), r.snapped_into.end());
         r.alive = false;
         r.handle = cdt::Vertex_handle();
         m_forward[o] = target;
@@ -162,7 +162,8 @@ namespace trisnap::detail {
 
 void Mesh::note_snapped(std::uint32_t v, const std::vector<std::uint32_t>& owners)
 {
-    for (std::uint32_t o : owners) push_unique(m_vertices[v].snapped_into, o);
+    auto& into = m_vertices[v].snapped_into;
+    into.insert(into.end(), owners.begin(), owners.end());
 }
 
 } // namespace trisnap::detail

@@ -132,7 +132,7 @@ void report_outcome(Context& c, std::size_t f, const Geometry& g, double moved)
     if (parts > in_parts || holes > cf.holes)
         add(ProblemCode::topology_changed, "a neck thinner than the tolerance collapsed: " + std::to_string(in_parts) + " parts became " + std::to_string(parts) + ", " + std::to_string(cf.holes) + " holes became " + std::to_string(holes), at);
     if (moved > c.options.max_drift_factor * c.options.tolerance)
-        add(ProblemCode::drift_exceeded, "a vertex moved " + std::to_string(moved / c.options.tolerance) + " x tolerance", at);
+        add(ProblemCode::drift_exceeded, "the boundary moved up to " + std::to_string(moved / c.options.tolerance) + " x tolerance (cascade of snaps)", at);
 }
 
 // An input vertex that is no longer on the feature's boundary (though the feature survives)
@@ -156,8 +156,30 @@ void report_lost_vertices(Context& c, std::size_t f, const std::vector<std::uint
         std::to_string(lost) + " input vertices left the boundary: a part thinner than the tolerance collapsed", at.x, at.y});
 }
 
+// How far each feature's output strays from its input, per input edge: the largest distance
+// from a vertex now on that edge's constraint to the original segment. Vertex moves alone miss
+// an edge bent by a cascade of splits (each < t, together several t on dense tangles).
+std::vector<double> edge_deviation(Context& c)
+{
+    std::vector<double> worst(c.clean.size(), 0.0);
+    auto& tri = c.mesh.tri();
+    for (auto cit = tri.constraints_begin(); cit != tri.constraints_end(); ++cit) {
+        const detail::Owner& o = c.mesh.owner(*cit);
+        const CleanFeature& cf = c.clean[o.feature];
+        const std::vector<Coord>& pts = o.line ? cf.lines[o.part] : cf.rings[o.part].points;
+        const Coord& a = pts[o.seg];
+        const Coord& b = pts[(o.seg + 1) % pts.size()];
+        for (auto it = tri.vertices_in_constraint_begin(*cit); it != tri.vertices_in_constraint_end(*cit); ++it) {
+            const detail::VertexRecord& r = c.mesh.vertex((*it)->info().id);
+            worst[o.feature] = std::max(worst[o.feature], detail::distance_point_segment(r.x, r.y, a.x, a.y, b.x, b.y));
+        }
+    }
+    return worst;
+}
+
 void extract_all(Context& c, const detail::FaceLabels& labels)
 {
+    const std::vector<double> deviation = edge_deviation(c);
     auto lines = detail::collect_line_edges(c.mesh, c.clean.size());
     std::vector<std::uint32_t> boundary;
     for (std::size_t f = 0; f < c.clean.size(); ++f) {
@@ -177,7 +199,7 @@ void extract_all(Context& c, const detail::FaceLabels& labels)
             out.geometry = detail::extract_lines(c.mesh, std::move(lines[f]), starts, eo);
         }
         out.geometry.has_z = has_z;
-        out.max_displacement = feature_displacement(c, f);
+        out.max_displacement = std::max(feature_displacement(c, f), deviation[f]);
         c.result.stats.max_displacement = std::max(c.result.stats.max_displacement, out.max_displacement);
         report_outcome(c, f, out.geometry, out.max_displacement);
     }

@@ -54,7 +54,9 @@ struct SnapStats {
 struct FeatureOutput {
     std::int64_t id = 0;
     Geometry geometry;              ///< Empty when the feature collapsed (then it has a problem)
-    double max_displacement = 0.0;  ///< largest move of any of its input vertices
+    /// Largest move of any of its input vertices, or distance of a vertex now on one of its
+    /// edges from that input edge: an upper bound of the output -> input drift along kept edges.
+    double max_displacement = 0.0;
 };
 
 struct SnapResult {

@@ -17,7 +17,7 @@
 // other's edges with shrinking distances.
 //
 // Termination: a merge removes at least one vertex; a split never adds one, and a vertex (with
-// everything merged into it) snaps into each input edge at most once, so the number of splits
+// everything merged into it) snaps into each input edge at most 4 times, so the number of splits
 // is bounded by vertices x input edges near them; on top, a cap on operations. After the queue
 // drains, a full scan of every vertex re-checks the fix-point (events hidden behind a constraint
 // that later moved are found there); the loop ends when a scan applies nothing.

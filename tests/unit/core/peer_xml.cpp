@@ -18,7 +18,9 @@ std::string trim(std::string_view s) {
 
 /// Text of the first <tag>...</tag> (or <tag attr...>...</tag>) in `s`; "" when absent.
 std::string element_text(std::string_view s, std::string_view tag) {
-    const std::string open = "<" + std::string(tag);
+    std::string open("<"), close("</");
+    open.append(tag);
+    close.append(tag).append(">");
     std::size_t at = 0;
     while ((at = s.find(open, at)) != std::string_view::npos) {
         const char next = at + open.size() < s.size() ? s[at + open.size()] : '\0';
@@ -29,10 +31,10 @@ std::string element_text(std::string_view s, std::string_view tag) {
     if (at == std::string_view::npos)
         return {};
     const std::size_t body = s.find('>', at);
-    const std::size_t close = s.find("</" + std::string(tag) + ">", body);
-    if (body == std::string_view::npos || close == std::string_view::npos)
+    const std::size_t end = s.find(close, body);
+    if (body == std::string_view::npos || end == std::string_view::npos)
         return {};
-    return trim(s.substr(body + 1, close - body - 1));
+    return trim(s.substr(body + 1, end - body - 1));
 }
 
 /// Value of attribute `name` ('...' or "...") in the first tag starting with `tag_open`.
@@ -41,7 +43,9 @@ std::string attribute(std::string_view s, std::string_view tag_open, std::string
     if (tag == std::string_view::npos)
         return {};
     const std::string_view t = s.substr(tag, s.find('>', tag) - tag);
-    const std::size_t at = t.find(std::string(" ") + std::string(name) + "=");
+    std::string key(" ");
+    key.append(name).append("=");
+    const std::size_t at = t.find(key);
     if (at == std::string_view::npos)
         return {};
     const std::size_t q = at + name.size() + 2;

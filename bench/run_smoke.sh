@@ -1,39 +1,38 @@
 #!/usr/bin/env bash
-# Short smoke run of the engine benchmarks, for CI: builds nothing, runs an already built
-# bench_engine on the small sizes (no 10^5 coverage, no 10^6) with a tiny min time, and writes
-# bench/results/engine_smoke.json. Fails when the binary is missing, when the run fails, or when
-# a benchmark reports an error other than an absent data set.
-#   BENCH_ENGINE=path/to/bench_engine bench/run_smoke.sh   (default: newest of build/{bench,release,dev})
+# Short smoke run of the benchmarks, for CI: builds nothing, runs an already built
+#  - bench_engine on the small sizes (no 10^5 coverage, no 10^6) with a tiny min time, writing
+#    bench/results/engine_smoke.json (< 10 s);
+#  - bench_pipeline once per data set and output format (one iteration each), writing
+#    bench/results/pipeline_smoke.json (< 30 s here).
+# Fails when a binary is missing, when a run fails, or when a benchmark reports an error other
+# than an absent data set.
+#   BENCH_ENGINE=path BENCH_PIPELINE=path bench/run_smoke.sh   (default: newest of build/{bench,release,dev})
 set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-binary="${BENCH_ENGINE:-}"
-if [[ -z "$binary" ]]; then
-  # The most recently built of the presets' binaries (CI builds `release`; a stale one loses).
-  for candidate in "$root"/build/{bench,release,dev}/bench/bench_engine; do
-    if [[ -x "$candidate" && ( -z "$binary" || "$candidate" -nt "$binary" ) ]]; then
-      binary="$candidate"
-    fi
-  done
-fi
-if [[ -z "$binary" || ! -x "$binary" ]]; then
-  echo "run_smoke: bench_engine not found; build it first (cmake --preset bench && cmake --build --preset bench), or set BENCH_ENGINE" >&2
-  exit 1
-fi
 
-out="$root/bench/results/engine_smoke.json"
-mkdir -p "$(dirname "$out")"
-# TRISNAP_BENCH_LARGE unset: the 10^6 coverage is not even registered. The JSON goes to the
-# file (for comparisons); the log gets the readable table.
-env -u TRISNAP_BENCH_LARGE timeout 300 "$binary" \
-  --benchmark_filter='(Coverage|Only)/(1000|10000)/|NearDegenerate/(100|1000)/|Andorra' \
-  --benchmark_min_time=0.01 \
-  --benchmark_format=console --benchmark_out="$out" --benchmark_out_format=json \
-  || { echo "run_smoke: bench_engine failed (exit $?)" >&2; exit 1; }
+# find_binary NAME OVERRIDE: OVERRIDE when given, else the most recently built of the presets'
+# binaries (CI builds `release`; a stale one loses).
+find_binary() {
+  local name="$1" binary="$2" candidate
+  if [[ -z "$binary" ]]; then
+    for candidate in "$root"/build/{bench,release,dev}/bench/"$name"; do
+      if [[ -x "$candidate" && ( -z "$binary" || "$candidate" -nt "$binary" ) ]]; then
+        binary="$candidate"
+      fi
+    done
+  fi
+  if [[ -z "$binary" || ! -x "$binary" ]]; then
+    echo "run_smoke: $name not found; build it first (cmake --preset bench && cmake --build --preset bench), or set ${name^^}" >&2
+    return 1
+  fi
+  echo "$binary"
+}
 
-# A benchmark that skipped with an error still lets the binary exit 0: look for errors here.
-# Only an absent data set is tolerated (machines without ../shared/data).
-python3 - "$out" <<'PY'
+# check_results FILE: a benchmark that skipped with an error still lets the binary exit 0, so
+# look for errors here. Only an absent data set is tolerated (machines without ../shared/data).
+check_results() {
+  python3 - "$1" <<'PY'
 import json, sys
 runs = json.load(open(sys.argv[1]))["benchmarks"]
 bad = [r for r in runs if r.get("error_occurred")
@@ -44,7 +43,29 @@ for r in runs:
     if r.get("error_occurred") and r not in bad:
         print(f"run_smoke: skipped {r['name']}: {r.get('error_message', '')}", file=sys.stderr)
 if not runs:
-    print("run_smoke: no benchmark ran", file=sys.stderr)
+    print(f"run_smoke: no benchmark ran ({sys.argv[1]})", file=sys.stderr)
 sys.exit(1 if bad or not runs else 0)
 PY
-echo "run_smoke: ok, $(python3 -c 'import json,sys; print(len(json.load(open(sys.argv[1]))["benchmarks"]))' "$out") results in $out"
+  echo "run_smoke: ok, $(python3 -c 'import json,sys; print(len(json.load(open(sys.argv[1]))["benchmarks"]))' "$1") results in $1"
+}
+
+engine="$(find_binary bench_engine "${BENCH_ENGINE:-}")"
+pipeline="$(find_binary bench_pipeline "${BENCH_PIPELINE:-}")"
+mkdir -p "$root/bench/results"
+
+# TRISNAP_BENCH_LARGE unset: the 10^6 coverage is not even registered. The JSON goes to the
+# file (for comparisons); the log gets the readable table.
+out="$root/bench/results/engine_smoke.json"
+env -u TRISNAP_BENCH_LARGE timeout 300 "$engine" \
+  --benchmark_filter='(Coverage|Only)/(1000|10000)/|NearDegenerate/(100|1000)/|Andorra' \
+  --benchmark_min_time=0.01 \
+  --benchmark_format=console --benchmark_out="$out" --benchmark_out_format=json \
+  || { echo "run_smoke: bench_engine failed (exit $?)" >&2; exit 1; }
+check_results "$out"
+
+# Every data set and format, one iteration each (each call takes well over the min time).
+out="$root/bench/results/pipeline_smoke.json"
+timeout 300 "$pipeline" --benchmark_min_time=0.01 \
+  --benchmark_format=console --benchmark_out="$out" --benchmark_out_format=json \
+  || { echo "run_smoke: bench_pipeline failed (exit $?)" >&2; exit 1; }
+check_results "$out"

@@ -19,6 +19,7 @@ Coord output_coord(const Mesh& mesh, std::uint32_t v, const ExtractOptions& o)
     const VertexRecord& r = mesh.vertex(v);
     Coord c{r.x, r.y, o.has_z ? r.z : std::nan("")};
     if (o.grid > 0) c.x = std::round(c.x / o.grid) * o.grid, c.y = std::round(c.y / o.grid) * o.grid;
+    c.x += 0.0, c.y += 0.0; // no negative zeros in the output
     return c;
 }
 
@@ -49,12 +50,6 @@ public:
     PolygonTracer(Mesh& mesh, const std::vector<cdt::Face_handle>& faces) : m_mesh(mesh), m_faces(faces) {}
 
     Geometry run(const ExtractOptions& options);
-    void boundary_vertices(std::vector<std::uint32_t>& out) const
-    {
-        out.clear();
-        for (const Loop& l : m_loops) out.insert(out.end(), l.ids.begin(), l.ids.end());
-        std::sort(out.begin(), out.end());
-    }
 
 private:
     bool inside(cdt::Face_handle f) const { return f->info().stamp == m_stamp; }
@@ -183,12 +178,9 @@ Geometry PolygonTracer::run(const ExtractOptions& options)
 } // namespace
 
 Geometry extract_polygons(Mesh& mesh, const std::vector<cdt::Face_handle>& faces,
-                          const ExtractOptions& options, std::vector<std::uint32_t>& boundary)
+                          const ExtractOptions& options)
 {
-    PolygonTracer tracer(mesh, faces);
-    Geometry g = tracer.run(options);
-    tracer.boundary_vertices(boundary);
-    return g;
+    return PolygonTracer(mesh, faces).run(options);
 }
 
 } // namespace trisnap::detail

@@ -20,9 +20,8 @@ struct ExtractOptions {
     bool has_z = false;
 };
 
-/// `boundary` receives the sorted ids of the vertices on the output rings.
 Geometry extract_polygons(Mesh& mesh, const std::vector<cdt::Face_handle>& faces,
-                          const ExtractOptions& options, std::vector<std::uint32_t>& boundary);
+                          const ExtractOptions& options);
 
 /// Directed sub-edges of each line feature's constraints, bucketed by feature index.
 struct LineEdge {

@@ -1,5 +1,6 @@
 #include "core/input_cleaning.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -45,6 +46,12 @@ std::vector<Coord> drop_repeats(const Path& path, Flags& flags)
     return out;
 }
 
+std::size_t distinct_points(std::vector<Coord> pts)
+{
+    std::sort(pts.begin(), pts.end(), [](const Coord& a, const Coord& b) { return a.x != b.x ? a.x < b.x : a.y < b.y; });
+    return static_cast<std::size_t>(std::unique(pts.begin(), pts.end()) - pts.begin());
+}
+
 // Returns the open ring (no closing point), empty when fewer than 3 distinct points remain.
 std::vector<Coord> clean_ring(const Path& ring, Flags& flags)
 {
@@ -54,7 +61,7 @@ std::vector<Coord> clean_ring(const Path& ring, Flags& flags)
     } else if (!pts.empty()) {
         flags.unclosed = true;
     }
-    if (pts.size() < 3) {
+    if (distinct_points(pts) < 3) { // also a ring going back and forth between two points
         flags.degenerate_ring = true;
         pts.clear();
     }

@@ -42,6 +42,7 @@ Geometry extract_lines(Mesh& mesh, std::vector<LineEdge> edges,
         const VertexRecord& r = mesh.vertex(v);
         Coord c{r.x, r.y, options.has_z ? r.z : std::nan("")};
         if (options.grid > 0) c.x = std::round(c.x / options.grid) * options.grid, c.y = std::round(c.y / options.grid) * options.grid;
+        c.x += 0.0, c.y += 0.0; // no negative zeros in the output
         return c;
     };
     auto take = [&](std::uint32_t v, std::uint32_t part) -> std::size_t {

@@ -200,27 +200,35 @@ std::uint32_t Mesh::add_record(cdt::Vertex_handle h, double z)
     return id;
 }
 
-// A vertex created on a constraint takes the z of the constraint's end points, interpolated by
-// distance along it (a split point interpolates).
+// A vertex created on constraints takes the z of each constraint's end points interpolated by
+// distance along it (a split point interpolates); where several constraints with z cross, the
+// mean of their interpolations.
 double Mesh::interpolated_z(cdt::Vertex_handle h) const
 {
+    const double x = CGAL::to_double(h->point().x()), y = CGAL::to_double(h->point().y());
+    double sum = 0;
+    int n = 0;
+    std::vector<cdt::Constraint_id> seen;
     auto ec = m_tri.incident_edges(h), done = ec;
     do {
         const cdt::Face_handle f = ec->first;
         const int i = ec->second;
         if (m_tri.is_infinite(*ec) || !f->is_constrained(i)) continue;
-        auto ctx = m_tri.contexts_begin(f->vertex(m_tri.cw(i)), f->vertex(m_tri.ccw(i)));
-        const cdt::Vertex_handle a = *ctx->vertices_begin();
-        cdt::Vertex_handle b = a; // the skip iterator cannot step back from its end
-        for (auto it = ctx->vertices_begin(); it != ctx->vertices_end(); ++it) b = *it;
-        if (a->info().id == cdt::k_no_id || b->info().id == cdt::k_no_id) continue;
-        const VertexRecord& ra = m_vertices[a->info().id];
-        const VertexRecord& rb = m_vertices[b->info().id];
-        const double x = CGAL::to_double(h->point().x()), y = CGAL::to_double(h->point().y());
-        const double la = std::hypot(x - ra.x, y - ra.y), lb = std::hypot(x - rb.x, y - rb.y);
-        return la + lb > 0 ? ra.z + (rb.z - ra.z) * la / (la + lb) : ra.z;
+        const auto va = f->vertex(m_tri.cw(i)), vb = f->vertex(m_tri.ccw(i));
+        for (auto ctx = m_tri.contexts_begin(va, vb); ctx != m_tri.contexts_end(va, vb); ++ctx) {
+            if (std::find(seen.begin(), seen.end(), ctx->id()) != seen.end()) continue;
+            seen.push_back(ctx->id());
+            const cdt::Vertex_handle a = *ctx->vertices_begin();
+            cdt::Vertex_handle b = a; // the skip iterator cannot step back from its end
+            for (auto it = ctx->vertices_begin(); it != ctx->vertices_end(); ++it) b = *it;
+            if (a->info().id == cdt::k_no_id || b->info().id == cdt::k_no_id) continue;
+            const VertexRecord &ra = m_vertices[a->info().id], &rb = m_vertices[b->info().id];
+            const double la = std::hypot(x - ra.x, y - ra.y), lb = std::hypot(x - rb.x, y - rb.y);
+            const double z = la + lb > 0 ? ra.z + (rb.z - ra.z) * la / (la + lb) : ra.z;
+            if (!std::isnan(z)) sum += z, ++n;
+        }
     } while (++ec != done);
-    return std::nan("");
+    return n ? sum / n : std::nan("");
 }
 
 std::uint32_t Mesh::current(std::uint32_t id)

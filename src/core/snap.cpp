@@ -23,6 +23,7 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <tuple>
 #include <unordered_map>
 
 namespace trisnap {
@@ -135,25 +136,39 @@ void report_outcome(Context& c, std::size_t f, const Geometry& g, double moved)
         add(ProblemCode::drift_exceeded, "the boundary moved up to " + std::to_string(moved / c.options.tolerance) + " x tolerance (cascade of snaps)", at);
 }
 
-// An input vertex that is no longer on the feature's boundary (though the feature survives)
-// belonged to a spike or corridor thinner than t that collapsed to a line: the feature lost
-// that part. Reported where the first such vertex was.
-void report_lost_vertices(Context& c, std::size_t f, const std::vector<std::uint32_t>& boundary)
+// An input edge of a polygon that no longer separates it from the outside (same membership
+// on both sides) lies in a part thinner than t that collapsed: a spike, a notch, a corridor
+// to a hole. Reported once per feature, at the smallest such place (deterministic).
+void report_collapsed_edges(Context& c, const detail::FaceLabels& labels)
 {
-    const std::vector<std::uint32_t>& ids = c.mesh.input_vertices(f);
-    std::size_t lost = 0, first = 0;
-    for (std::size_t k = 0; k < ids.size(); ++k) {
-        if (std::binary_search(boundary.begin(), boundary.end(), c.mesh.current(ids[k]))) continue;
-        if (lost++ == 0) first = k;
+    std::vector<std::size_t> count(c.clean.size(), 0);
+    std::vector<Coord> where(c.clean.size());
+    auto& tri = c.mesh.tri();
+    auto member = [&](cdt::Face_handle f, std::uint32_t feature) {
+        const std::vector<std::uint32_t>& set = labels.sets[f->info().label];
+        return std::binary_search(set.begin(), set.end(), feature);
+    };
+    for (auto cit = tri.constraints_begin(); cit != tri.constraints_end(); ++cit) {
+        const detail::Owner& o = c.mesh.owner(*cit);
+        if (o.line) continue;
+        cdt::Vertex_handle prev;
+        for (auto it = tri.vertices_in_constraint_begin(*cit); it != tri.vertices_in_constraint_end(*cit); prev = *it, ++it) {
+            cdt::Face_handle fh;
+            int i;
+            if (prev == cdt::Vertex_handle() || !tri.is_edge(prev, *it, fh, i)) continue;
+            if (member(fh, o.feature) != member(fh->neighbor(i), o.feature)) continue;
+            const detail::VertexRecord &a = c.mesh.vertex(prev->info().id), &b = c.mesh.vertex((*it)->info().id);
+            const Coord mid{0.5 * (a.x + b.x), 0.5 * (a.y + b.y)};
+            if (count[o.feature]++ == 0 || std::tie(mid.x, mid.y) < std::tie(where[o.feature].x, where[o.feature].y))
+                where[o.feature] = mid;
+        }
     }
-    if (lost == 0) return;
-    std::size_t k = 0;
-    Coord at;
-    for (const auto& ring : c.clean[f].rings)
-        for (const Coord& p : ring.points)
-            if (k++ == first) at = p;
-    c.result.problems.push_back(Problem{c.clean[f].id, ProblemCode::thin_part_collapsed,
-        std::to_string(lost) + " input vertices left the boundary: a part thinner than the tolerance collapsed", at.x, at.y});
+    for (std::size_t f = 0; f < c.clean.size(); ++f) {
+        if (count[f] == 0 || c.result.features[c.clean[f].index].geometry.empty()) continue;
+        c.result.problems.push_back(Problem{c.clean[f].id, ProblemCode::thin_part_collapsed,
+            std::to_string(count[f]) + " input edge pieces no longer bound the polygon: a part thinner than the tolerance collapsed",
+            where[f].x, where[f].y});
+    }
 }
 
 // How far each feature's output strays from its input, per input edge: the largest distance
@@ -181,7 +196,6 @@ void extract_all(Context& c, const detail::FaceLabels& labels)
 {
     const std::vector<double> deviation = edge_deviation(c);
     auto lines = detail::collect_line_edges(c.mesh, c.clean.size());
-    std::vector<std::uint32_t> boundary;
     for (std::size_t f = 0; f < c.clean.size(); ++f) {
         const CleanFeature& cf = c.clean[f];
         FeatureOutput& out = c.result.features[cf.index];
@@ -190,8 +204,7 @@ void extract_all(Context& c, const detail::FaceLabels& labels)
         const bool has_z = c.result.features[cf.index].geometry.has_z;
         const detail::ExtractOptions eo{c.options.grid, has_z};
         if (cf.polygonal) {
-            out.geometry = detail::extract_polygons(c.mesh, labels.faces_of[f], eo, boundary);
-            if (!out.geometry.empty()) report_lost_vertices(c, f, boundary);
+            out.geometry = detail::extract_polygons(c.mesh, labels.faces_of[f], eo);
         } else {
             std::vector<std::uint32_t> starts;
             std::size_t k = 0;
@@ -262,6 +275,7 @@ SnapResult snap(const std::vector<Feature>& features, const SnapOptions& options
     st.seconds_label = clock.lap();
     Context ctx{options, clean, mesh, result};
     extract_all(ctx, labels);
+    report_collapsed_edges(ctx, labels);
     report_unresolved(ctx, outcome);
     st.output_vertices = mesh.tri().number_of_vertices() - Mesh::frame_vertices;
     st.seconds_extract = clock.lap();

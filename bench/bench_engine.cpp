@@ -5,7 +5,7 @@
 // the engine's own per-phase stopwatch to Google Benchmark as manual time.
 #include "core/snap.hpp"
 #include "generators.hpp"
-#include "layer_loader.hpp"
+#include "ogr_layer_reader.hpp"
 #include "test_data.hpp"
 
 #include <benchmark/benchmark.h>
@@ -96,7 +96,7 @@ const RealLayer& andorra() {
             return out;
         }
         try {
-            out.features = load_layer(path.string(), "andorra").features;
+            out.features = read_ogr_layer(path.string(), "andorra").features;
         } catch (const std::exception& e) {
             out.error = std::string("cannot load Andorra: ") + e.what();
         }

@@ -59,7 +59,6 @@ public:
     std::size_t vertex_slots() const { return m_vertices.size(); }
     std::uint32_t id(cdt::Vertex_handle h) const { return h->info().id; }
     const Owner& owner(const cdt::Constraint_id& cid) const { return m_owners[m_owner_of.at(cid)]; }
-    std::uint32_t owner_index(const cdt::Constraint_id& cid) const { return m_owner_of.at(cid); }
     const Owner& owner_at(std::uint32_t index) const { return m_owners[index]; }
     std::size_t intersections() const { return m_intersections; }
     static constexpr std::size_t frame_vertices = 4;
@@ -124,7 +123,6 @@ private:
     std::vector<std::uint32_t> m_vertex_stamp;
     std::uint32_t m_stamp = 0;
     std::size_t m_intersections = 0;
-    std::uint32_t m_frame_first = 0; ///< ids m_frame_first .. +3 are the frame corners
 };
 
 double distance_point_segment(double px, double py, double ax, double ay, double bx, double by);

@@ -12,14 +12,6 @@
 #include <stdexcept>
 
 namespace trisnap::detail {
-namespace {
-
-void push_unique(std::vector<std::uint32_t>& v, std::uint32_t x)
-{
-    if (std::find(v.begin(), v.end(), x) == v.end()) v.push_back(x);
-}
-
-} // namespace
 
 void Mesh::one_ring(cdt::Vertex_handle h, std::vector<std::uint32_t>& out) const
 {
@@ -155,10 +147,6 @@ std::uint32_t Mesh::replace(std::span<const std::uint32_t> olds, double x, doubl
     std::erase_if(touched, [&](std::uint32_t id) { return !m_vertices[id].alive; });
     return tid;
 }
-
-} // namespace trisnap::detail
-
-namespace trisnap::detail {
 
 void Mesh::note_snapped(std::uint32_t v, const std::vector<std::uint32_t>& owners)
 {

@@ -23,12 +23,9 @@ public:
 
     int run() override
     {
-        setup_logging(m_args.verbose, m_args.quiet);
-        const Config config = resolve_config(m_args);
-        if (m_args.print_config) {
-            std::cout << to_toml(config);
-            return 0;
-        }
+        const std::optional<Config> resolved = start_snap_command(m_args);
+        if (!resolved) return 0;
+        const Config& config = *resolved;
         Plan plan = make_plan(m_args, config);
         print_plan(plan, std::cout);
         if (plan.feature_count >= 0) {

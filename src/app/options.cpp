@@ -1,8 +1,10 @@
 #include "app/options.hpp"
 
+#include "app/command.hpp"
 #include "config/errors.hpp"
 
 #include <cmath>
+#include <iostream>
 #include <sstream>
 
 namespace trisnap {
@@ -122,6 +124,15 @@ std::vector<std::string> normalise_arguments(int argc, char** argv)
         out.push_back(arg);
     }
     return out;
+}
+
+std::optional<Config> start_snap_command(const SnapArgs& args)
+{
+    setup_logging(args.verbose, args.quiet);
+    Config config = resolve_config(args);
+    if (!args.print_config) return config;
+    std::cout << to_toml(config);
+    return std::nullopt;
 }
 
 } // namespace trisnap

@@ -45,6 +45,10 @@ void add_snap_options(CLI::App& command, SnapArgs& args, bool needs_output);
 /// Defaults, then the --config file, then flags. Throws config_error / argument_error.
 Config resolve_config(const SnapArgs& args);
 
+/// The common start of snap and validate: logging set up, config resolved. With
+/// --print-config it prints the resolved TOML and returns nothing (the command is done).
+std::optional<Config> start_snap_command(const SnapArgs& args);
+
 /// xmin,ymin,xmax,ymax; throws argument_error.
 std::vector<double> parse_bbox(const std::string& text);
 

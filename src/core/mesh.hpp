@@ -25,7 +25,6 @@ struct Owner {
 struct VertexRecord {
     cdt::Vertex_handle handle;
     double x = 0, y = 0, z = 0;
-    double ox0 = 0, oy0 = 0, ox1 = 0, oy1 = 0; ///< box of the input positions merged here
     double weight = 1;                         ///< how many vertices were merged into this one
     bool alive = true;
     std::vector<std::uint32_t> snapped_into;   ///< owners of edges this vertex was split into, once per split
@@ -91,7 +90,7 @@ public:
     /// One sequential pass over the constraints: far cheaper than asking CGAL's hierarchy (a map
     /// keyed by exact points) edge by edge.
     std::vector<SubEdgeOwner> sub_edge_owners() const;
-    /// Records that vertex v was split into edges of these owners (the at-most-once guard).
+    /// Records that vertex v was split into edges of these owners (the guard on repeated splits).
     void note_snapped(std::uint32_t v, const std::vector<std::uint32_t>& owners);
 
 private:

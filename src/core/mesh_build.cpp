@@ -126,8 +126,6 @@ void Mesh::insert_points(const std::vector<CleanFeature>& features, double reach
         r.x = CGAL::to_double(unique[id].first.x());
         r.y = CGAL::to_double(unique[id].first.y());
         r.z = zs[id];
-        r.ox0 = r.ox1 = r.x;
-        r.oy0 = r.oy1 = r.y;
     }
     m_forward.assign(unique.size(), cdt::k_no_id);
     m_vertex_stamp.assign(unique.size(), 0);
@@ -191,8 +189,6 @@ std::uint32_t Mesh::add_record(cdt::Vertex_handle h, double z)
     r.x = CGAL::to_double(h->point().x());
     r.y = CGAL::to_double(h->point().y());
     r.z = z;
-    r.ox0 = r.ox1 = r.x;
-    r.oy0 = r.oy1 = r.y;
     m_vertices.push_back(std::move(r));
     m_forward.push_back(cdt::k_no_id);
     m_vertex_stamp.push_back(0);

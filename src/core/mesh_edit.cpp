@@ -68,8 +68,6 @@ void Mesh::merge_into(std::uint32_t target, std::span<const std::uint32_t> olds)
     for (std::uint32_t o : olds) {
         if (o == target) continue;
         VertexRecord& r = m_vertices[o];
-        t.ox0 = std::min(t.ox0, r.ox0), t.oy0 = std::min(t.oy0, r.oy0);
-        t.ox1 = std::max(t.ox1, r.ox1), t.oy1 = std::max(t.oy1, r.oy1);
         if (!std::isnan(r.z)) zsum += r.z, ++zn;
         t.weight += r.weight;
         t.snapped_into.insert(t.snapped_into.end(), r.snapped_into.begin(), r.snapped_into.end());

@@ -257,10 +257,13 @@ SnapResult snap(const std::vector<Feature>& features, const SnapOptions& options
     }
     Stopwatch clock;
     std::vector<CleanFeature> clean = detail::clean_input(features, options.tolerance, result.problems);
-    const detail::SnapperParams params = snapper_params(options, 0);
-    Mesh mesh(clean, std::max({params.vertex_threshold, params.edge_threshold, params.sliver_threshold}));
     SnapStats& st = result.stats;
-    for (std::size_t f = 0; f < clean.size(); ++f) st.input_vertices += mesh.input_vertices(f).size();
+    for (const CleanFeature& cf : clean) {
+        for (const auto& ring : cf.rings) st.input_vertices += ring.points.size();
+        for (const auto& line : cf.lines) st.input_vertices += line.size();
+    }
+    const detail::SnapperParams params = snapper_params(options, st.input_vertices);
+    Mesh mesh(clean, std::max({params.vertex_threshold, params.edge_threshold, params.sliver_threshold}));
     st.triangulation_vertices = mesh.tri().number_of_vertices() - Mesh::frame_vertices;
     st.intersections = mesh.intersections();
     const std::vector<bool> crossing = self_intersecting(mesh, clean.size());
@@ -268,7 +271,7 @@ SnapResult snap(const std::vector<Feature>& features, const SnapOptions& options
         if (crossing[f]) result.problems.push_back(Problem{clean[f].id, ProblemCode::self_intersection,
             "rings cross or overlap; repaired with the odd-even rule", clean[f].rings[0].points[0].x, clean[f].rings[0].points[0].y});
     st.seconds_triangulate = clock.lap();
-    const detail::SnapperOutcome outcome = detail::run_snapper(mesh, snapper_params(options, st.input_vertices));
+    const detail::SnapperOutcome outcome = detail::run_snapper(mesh, params);
     st.merges = outcome.merges, st.splits = outcome.splits, st.rounds = outcome.rounds;
     st.seconds_snap = clock.lap();
     const detail::FaceLabels labels = detail::label_faces(mesh, clean.size());

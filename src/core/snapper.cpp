@@ -198,10 +198,9 @@ bool Snapper::apply_split(const Event& e)
         }
     }
     const std::uint32_t split[2] = {e.b, e.c};
-    const std::vector<std::uint32_t> owners = m_owners;
     const std::array<std::uint32_t, 1> olds{e.a};
     const std::uint32_t w = m_mesh.replace(olds, ra.x, ra.y, split, m_touched);
-    m_mesh.note_snapped(w, owners);
+    m_mesh.note_snapped(w, m_owners); // replace() does not touch m_owners
     after_edit(w);
     m_out.splits += 1;
     return true;

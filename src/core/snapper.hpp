@@ -39,7 +39,7 @@ struct SnapperOutcome {
     std::size_t merges = 0;
     std::size_t splits = 0;
     std::size_t rounds = 0;
-    std::size_t guarded = 0;    ///< splits refused by the at-most-once guard
+    std::size_t guarded = 0;    ///< splits refused by the repeated-split guard
     bool converged = true;      ///< false when the operation cap stopped the run
     /// Vertices still closer than the thresholds after the run (cap reached or guard refused).
     std::vector<std::uint32_t> unresolved;

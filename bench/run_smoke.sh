@@ -3,10 +3,13 @@
 #  - bench_engine on the small sizes (no 10^5 coverage, no 10^6) with a tiny min time, writing
 #    bench/results/engine_smoke.json (< 10 s);
 #  - bench_pipeline once per data set and output format (one iteration each), writing
-#    bench/results/pipeline_smoke.json (< 30 s here).
+#    bench/results/pipeline_smoke.json (< 30 s here);
+#  - bench/compare on the bundled data/delft_partition_sample.gpkg at 1 cm, every tool (trisnap,
+#    CGAL ISR and SR, GEOS, each judged by `trisnap assess`), writing
+#    bench/results/compare_smoke.json (< 60 s); fails when a tool fails or the table lacks a key.
 # Fails when a binary is missing, when a run fails, or when a benchmark reports an error other
 # than an absent data set.
-#   BENCH_ENGINE=path BENCH_PIPELINE=path bench/run_smoke.sh   (default: newest of build/{bench,release,dev})
+#   BENCH_ENGINE=path BENCH_PIPELINE=path BENCH_COMPARE_TOOLS=path bench/run_smoke.sh   (default: newest of build/{bench,release,dev})
 set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -69,3 +72,26 @@ timeout 300 "$pipeline" --benchmark_min_time=0.01 \
   --benchmark_format=console --benchmark_out="$out" --benchmark_out_format=json \
   || { echo "run_smoke: bench_pipeline failed (exit $?)" >&2; exit 1; }
 check_results "$out"
+
+# bench/compare: all tools on a small layer that ships with the repository (no ../shared/data).
+compare_tools="$(find_binary bench_compare_tools "${BENCH_COMPARE_TOOLS:-}")"
+out="$root/bench/results/compare_smoke.json"
+timeout 120 python3 "$root/bench/compare" "$root/data/delft_partition_sample.gpkg" --tolerance 0.01 \
+  --dataset smoke --timeout 60 --runner "$compare_tools" --out-dir "$root/bench/results/compare_smoke" \
+  --json "$out" || { echo "run_smoke: bench/compare failed (exit $?)" >&2; exit 1; }
+python3 - "$out" <<'PY'
+import json, sys
+report = json.load(open(sys.argv[1]))
+keys = ("tool", "status", "wall_s", "peak_rss_mb", "n_out", "n_invalid", "n_crossings", "min_vv_T",
+        "min_ve_T", "max_hausdorff_T", "lost")
+rows = {row["tool"]: row for row in report["table"]}
+bad = [f"{t}: missing" for t in ("trisnap", "isr", "sr", "geos", "input") if t not in rows]
+bad += [f"{t}: status {r['status']}" for t, r in rows.items() if r["status"] != "ok"]
+bad += [f"{t}: no {k}" for t, r in rows.items() for k in keys
+        if r.get(k) is None and not (t == "input" and k in ("wall_s", "peak_rss_mb"))]
+for b in bad:
+    print(f"run_smoke: compare: {b}", file=sys.stderr)
+sys.exit(1 if bad else 0)
+PY
+echo "run_smoke: ok, bench/compare table in $out"
+rm -rf "$root/bench/results/compare_smoke"

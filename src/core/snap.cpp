@@ -17,6 +17,7 @@
 #include "core/input_cleaning.hpp"
 #include "core/labelling.hpp"
 #include "core/mesh.hpp"
+#include "core/outcome.hpp"
 #include "core/snapper.hpp"
 
 #include <algorithm>
@@ -61,7 +62,7 @@ detail::SnapperParams snapper_params(const SnapOptions& o, std::size_t vertices)
 // a sub-edge the feature owns twice (overlapping edges), or a vertex lying inside two of its
 // input edges (two straight edges through one interior point either cross there or overlap).
 // A ring vertex touching another edge is not flagged: that is valid for a hole on its shell.
-std::vector<bool> self_intersecting(Mesh& mesh, std::size_t features)
+std::vector<bool> self_intersecting(Mesh& mesh, std::size_t features, const Region& region)
 {
     std::vector<bool> flag(features, false);
     auto& tri = mesh.tri();
@@ -73,7 +74,11 @@ std::vector<bool> self_intersecting(Mesh& mesh, std::size_t features)
         for (; j < owners.size() && owners[j].key == owners[k].key; ++j) {
             const detail::Owner& ow = mesh.owner_at(owners[j].owner);
             if (ow.line) continue;
-            if (std::find(seen.begin(), seen.end(), ow.feature) != seen.end()) flag[ow.feature] = true;
+            if (std::find(seen.begin(), seen.end(), ow.feature) != seen.end()) {
+                const detail::VertexRecord &a = mesh.vertex(static_cast<std::uint32_t>(owners[k].key >> 32)),
+                                           &b = mesh.vertex(static_cast<std::uint32_t>(owners[k].key));
+                if (region.contains(0.5 * (a.x + b.x), 0.5 * (a.y + b.y))) flag[ow.feature] = true;
+            }
             seen.push_back(ow.feature);
         }
         k = j;
@@ -85,7 +90,8 @@ std::vector<bool> self_intersecting(Mesh& mesh, std::size_t features)
         auto first = tri.vertices_in_constraint_begin(*cit), last = tri.vertices_in_constraint_end(*cit);
         for (auto it = std::next(first); it != last && std::next(it) != last; ++it) {
             const std::uint64_t key = (std::uint64_t{(*it)->info().id} << 32) | ow.feature;
-            if (++inside[key] >= 2) flag[ow.feature] = true;
+            if (++inside[key] >= 2 && region.contains(mesh.vertex((*it)->info().id).x, mesh.vertex((*it)->info().id).y))
+                flag[ow.feature] = true;
         }
     }
     return flag;
@@ -105,7 +111,7 @@ double feature_displacement(Context& c, std::size_t f)
     std::size_t k = 0;
     auto visit = [&](const Coord& p) {
         const detail::VertexRecord& r = c.mesh.vertex(c.mesh.current(ids[k++]));
-        worst = std::max(worst, std::hypot(r.x - p.x, r.y - p.y));
+        if (c.options.report_region.contains(p.x, p.y)) worst = std::max(worst, std::hypot(r.x - p.x, r.y - p.y));
     };
     for (const auto& ring : c.clean[f].rings) std::for_each(ring.points.begin(), ring.points.end(), visit);
     for (const auto& line : c.clean[f].lines) std::for_each(line.begin(), line.end(), visit);
@@ -114,26 +120,7 @@ double feature_displacement(Context& c, std::size_t f)
 
 void report_outcome(Context& c, std::size_t f, const Geometry& g, double moved)
 {
-    const CleanFeature& cf = c.clean[f];
-    auto add = [&](ProblemCode code, std::string msg, const Coord& at) {
-        c.result.problems.push_back(Problem{cf.id, code, std::move(msg), at.x, at.y});
-    };
-    const Coord at = cf.polygonal ? cf.rings.front().points.front() : cf.lines.front().front();
-    if (g.empty()) {
-        add(cf.polygonal ? ProblemCode::collapsed_polygon : ProblemCode::collapsed_line,
-            cf.polygonal ? "polygon thinner than the tolerance vanished" : "line shorter than the tolerance vanished", at);
-        ++c.result.stats.collapsed_features;
-        return;
-    }
-    std::size_t parts = cf.polygonal ? g.polygons.size() : g.lines.size(), holes = 0;
-    for (const Polygon& p : g.polygons) holes += p.rings.size() - 1;
-    const std::size_t in_parts = cf.polygonal ? cf.shells : cf.lines.size();
-    if (parts < in_parts) add(ProblemCode::part_removed, std::to_string(in_parts - parts) + " of " + std::to_string(in_parts) + " parts vanished", at);
-    if (holes < cf.holes) add(ProblemCode::hole_removed, std::to_string(cf.holes - holes) + " of " + std::to_string(cf.holes) + " holes closed", at);
-    if (parts > in_parts || holes > cf.holes)
-        add(ProblemCode::topology_changed, "a neck thinner than the tolerance collapsed: " + std::to_string(in_parts) + " parts became " + std::to_string(parts) + ", " + std::to_string(cf.holes) + " holes became " + std::to_string(holes), at);
-    if (moved > c.options.max_drift_factor * c.options.tolerance)
-        add(ProblemCode::drift_exceeded, "the boundary moved up to " + std::to_string(moved / c.options.tolerance) + " x tolerance (cascade of snaps)", at);
+    if (detail::outcome_problems(c.clean[f], g, moved, c.options, c.result.problems)) ++c.result.stats.collapsed_features;
 }
 
 // An input edge of a polygon that no longer separates it from the outside (same membership
@@ -159,6 +146,7 @@ void report_collapsed_edges(Context& c, const detail::FaceLabels& labels)
             if (member(fh, o.feature) != member(fh->neighbor(i), o.feature)) continue;
             const detail::VertexRecord &a = c.mesh.vertex(prev->info().id), &b = c.mesh.vertex((*it)->info().id);
             const Coord mid{0.5 * (a.x + b.x), 0.5 * (a.y + b.y)};
+            if (!c.options.report_region.contains(mid.x, mid.y)) continue;
             if (count[o.feature]++ == 0 || std::tie(mid.x, mid.y) < std::tie(where[o.feature].x, where[o.feature].y))
                 where[o.feature] = mid;
         }
@@ -186,6 +174,7 @@ std::vector<double> edge_deviation(Context& c)
         const Coord& b = pts[(o.seg + 1) % pts.size()];
         for (auto it = tri.vertices_in_constraint_begin(*cit); it != tri.vertices_in_constraint_end(*cit); ++it) {
             const detail::VertexRecord& r = c.mesh.vertex((*it)->info().id);
+            if (!c.options.report_region.contains(r.x, r.y)) continue;
             worst[o.feature] = std::max(worst[o.feature], detail::distance_point_segment(r.x, r.y, a.x, a.y, b.x, b.y));
         }
     }
@@ -226,6 +215,7 @@ void report_unresolved(Context& c, const detail::SnapperOutcome& outcome)
     std::vector<std::pair<std::uint32_t, std::uint32_t>> hits; // feature, vertex
     auto& tri = c.mesh.tri();
     for (std::uint32_t v : outcome.unresolved) {
+        if (!c.options.report_region.contains(c.mesh.vertex(v).x, c.mesh.vertex(v).y)) continue;
         auto vc = tri.incident_vertices(c.mesh.vertex(v).handle), done = vc;
         do {
             if (tri.is_infinite(vc)) continue;
@@ -244,6 +234,34 @@ void report_unresolved(Context& c, const detail::SnapperOutcome& outcome)
 }
 
 } // namespace
+
+namespace detail {
+
+bool outcome_problems(const CleanFeature& cf, const Geometry& g, double moved, const SnapOptions& options,
+                      std::vector<Problem>& problems)
+{
+    auto add = [&](ProblemCode code, std::string msg, const Coord& at) {
+        problems.push_back(Problem{cf.id, code, std::move(msg), at.x, at.y});
+    };
+    const Coord at = cf.polygonal ? cf.rings.front().points.front() : cf.lines.front().front();
+    if (g.empty()) {
+        add(cf.polygonal ? ProblemCode::collapsed_polygon : ProblemCode::collapsed_line,
+            cf.polygonal ? "polygon thinner than the tolerance vanished" : "line shorter than the tolerance vanished", at);
+        return true;
+    }
+    std::size_t parts = cf.polygonal ? g.polygons.size() : g.lines.size(), holes = 0;
+    for (const Polygon& p : g.polygons) holes += p.rings.size() - 1;
+    const std::size_t in_parts = cf.polygonal ? cf.shells : cf.lines.size();
+    if (parts < in_parts) add(ProblemCode::part_removed, std::to_string(in_parts - parts) + " of " + std::to_string(in_parts) + " parts vanished", at);
+    if (holes < cf.holes) add(ProblemCode::hole_removed, std::to_string(cf.holes - holes) + " of " + std::to_string(cf.holes) + " holes closed", at);
+    if (parts > in_parts || holes > cf.holes)
+        add(ProblemCode::topology_changed, "a neck thinner than the tolerance collapsed: " + std::to_string(in_parts) + " parts became " + std::to_string(parts) + ", " + std::to_string(cf.holes) + " holes became " + std::to_string(holes), at);
+    if (moved > options.max_drift_factor * options.tolerance)
+        add(ProblemCode::drift_exceeded, "the boundary moved up to " + std::to_string(moved / options.tolerance) + " x tolerance (cascade of snaps)", at);
+    return false;
+}
+
+} // namespace detail
 
 SnapResult snap(const std::vector<Feature>& features, const SnapOptions& options)
 {
@@ -266,7 +284,7 @@ SnapResult snap(const std::vector<Feature>& features, const SnapOptions& options
     Mesh mesh(clean, std::max({params.vertex_threshold, params.edge_threshold, params.sliver_threshold}));
     st.triangulation_vertices = mesh.tri().number_of_vertices() - Mesh::frame_vertices;
     st.intersections = mesh.intersections();
-    const std::vector<bool> crossing = self_intersecting(mesh, clean.size());
+    const std::vector<bool> crossing = self_intersecting(mesh, clean.size(), options.report_region);
     for (std::size_t f = 0; f < clean.size(); ++f)
         if (crossing[f]) result.problems.push_back(Problem{clean[f].id, ProblemCode::self_intersection,
             "rings cross or overlap; repaired with the odd-even rule", clean[f].rings[0].points[0].x, clean[f].rings[0].points[0].y});

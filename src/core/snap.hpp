@@ -6,10 +6,22 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
 namespace trisnap {
+
+/// A half-open box [xmin, xmax) x [ymin, ymax); the default holds every point.
+struct Region {
+    double xmin = -std::numeric_limits<double>::infinity();
+    double ymin = -std::numeric_limits<double>::infinity();
+    double xmax = std::numeric_limits<double>::infinity();
+    double ymax = std::numeric_limits<double>::infinity();
+    bool contains(double x, double y) const { return xmin <= x && x < xmax && ymin <= y && y < ymax; }
+    bool unbounded() const { return *this == Region{}; }
+    friend bool operator==(const Region&, const Region&) = default;
+};
 
 /// What the engine does; every field says what changes when you flip it.
 struct SnapOptions {
@@ -34,6 +46,11 @@ struct SnapOptions {
     double max_drift_factor = 2.0;
     /// Cap on snapping operations; 0 picks 20 x input vertices + 1000. Reaching it is reported.
     std::size_t max_operations = 0;
+    /// Where evidence is reported: a crossing (105), a collapsed edge piece (209), an unsettled
+    /// vertex (205/207) and a vertex move or edge deviation (max_displacement, 206) count only
+    /// when they lie in this box. The default counts everything. Tiles set it to their core, so
+    /// each piece of evidence is reported by exactly one tile; snapping itself is not affected.
+    Region report_region;
 };
 
 /// Counters and timings of one engine run; merge runs (tiles) with +=.

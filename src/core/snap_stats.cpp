@@ -33,6 +33,8 @@ std::string validate(const SnapOptions& o)
     if (!(o.sliver_factor >= 0 && o.sliver_factor <= 1)) return fmt("sliver_factor must be in [0, 1]", o.sliver_factor);
     if (!(o.grid >= 0 && o.grid <= o.tolerance / 4)) return fmt("grid must be >= 0 and <= tolerance/4", o.grid);
     if (!(o.max_drift_factor > 0) || !std::isfinite(o.max_drift_factor)) return fmt("max_drift_factor must be finite and > 0", o.max_drift_factor);
+    const Region& r = o.report_region;
+    if (!(r.xmin < r.xmax && r.ymin < r.ymax)) return "report_region must have xmin < xmax and ymin < ymax";
     return {};
 }
 

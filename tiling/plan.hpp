@@ -1,0 +1,77 @@
+#pragma once
+// The tile plan: the plane cut into half-open core rectangles (a k-d tree, so a point has
+// exactly one owner), each snapped with a halo of width h around it.
+//  - balanced: split the longer side at the median vertex until a tile holds <= budget vertices;
+//  - regular: a grid of side `tile_size` (anchored at multiples of it);
+//  - single: one tile (the plane).
+// Outer tiles extend to infinity, so every point of the plane has an owner.
+#include "core/geometry.hpp"
+#include "core/snap.hpp"
+
+#include <cstddef>
+#include <vector>
+
+namespace trisnap::tiling {
+
+/// A closed box; empty when xmin > xmax.
+struct Box {
+    double xmin = 0, ymin = 0, xmax = -1, ymax = -1;
+    bool empty() const { return xmin > xmax || ymin > ymax; }
+    bool intersects(const Box& o) const { return !(o.xmin > xmax || o.xmax < xmin || o.ymin > ymax || o.ymax < ymin); }
+    bool contains(const Box& o) const { return xmin <= o.xmin && o.xmax <= xmax && ymin <= o.ymin && o.ymax <= ymax; }
+    Box expanded(double d) const { return {xmin - d, ymin - d, xmax + d, ymax + d}; }
+    void add(double x, double y);
+    void add(const Box& b);
+    double width() const { return xmax - xmin; }
+    double height() const { return ymax - ymin; }
+};
+Box box_of(const Geometry& g);
+/// The finite part of a region clipped to `extent` (closed).
+Box clip(const Region& r, const Box& extent);
+
+struct PlanOptions {
+    /// Balanced plan: a tile is split while it holds more than this many input vertices.
+    std::size_t vertex_budget = 100000;
+    /// > 0: a regular grid of this side (layer units) instead of the balanced plan.
+    double tile_size = 0.0;
+    /// One tile (`--no-tiles`).
+    bool single = false;
+};
+
+class TilePlan {
+public:
+    std::size_t size() const { return m_cores.size(); }
+    const Region& core(std::size_t leaf) const { return m_cores[leaf]; }
+    /// The leaf whose half-open core holds (x, y).
+    std::size_t leaf_of(double x, double y) const;
+    /// Leaves whose core meets the closed box `b` (appended, ascending).
+    void query(const Box& b, std::vector<std::size_t>& out) const;
+    /// Extent of the input (closed box of every vertex).
+    const Box& extent() const { return m_extent; }
+    std::size_t input_vertices() const { return m_vertices; }
+
+    friend TilePlan make_plan(const std::vector<Feature>& features, const PlanOptions& options);
+
+private:
+    struct Node {
+        int axis = -1;        ///< -1 leaf, 0 split on x, 1 on y
+        double split = 0;     ///< left: < split, right: >= split
+        int left = -1, right = -1;
+        std::size_t leaf = 0;
+    };
+    int build_balanced(std::vector<double>& xs, std::vector<double>& ys, std::size_t lo, std::size_t hi,
+                       const Region& r, std::size_t budget, int depth);
+    int build_grid(long c0, long c1, long r0, long r1, const Region& r, double size, double ox, double oy);
+    int add_leaf(const Region& r);
+    void query(int node, const Box& b, std::vector<std::size_t>& out) const;
+
+    std::vector<Node> m_nodes;
+    std::vector<Region> m_cores;
+    Box m_extent;
+    std::size_t m_vertices = 0;
+};
+
+/// Throws std::invalid_argument when a regular grid would need more than 10^6 tiles.
+TilePlan make_plan(const std::vector<Feature>& features, const PlanOptions& options);
+
+} // namespace trisnap::tiling

@@ -1,0 +1,203 @@
+#include "tiling/tile_input.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace trisnap::tiling {
+namespace {
+
+constexpr double k_two_pi = 2 * std::numbers::pi;
+
+double cross(double ax, double ay, double bx, double by) { return ax * by - ay * bx; }
+
+// Signed angle seen from c when going from p to q, in (-pi, pi].
+double sweep(const Coord& c, const Coord& p, const Coord& q)
+{
+    const double ax = p.x - c.x, ay = p.y - c.y, bx = q.x - c.x, by = q.y - c.y;
+    return std::atan2(cross(ax, ay, bx, by), ax * bx + ay * by);
+}
+
+bool point_in_ring(const std::vector<Coord>& ring, double x, double y)
+{
+    bool in = false;
+    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+        const Coord &a = ring[i], &b = ring[j];
+        if ((a.y > y) != (b.y > y) && x < (b.x - a.x) * (y - a.y) / (b.y - a.y) + a.x) in = !in;
+    }
+    return in;
+}
+
+class RingCutter {
+public:
+    RingCutter(const Box& r, const Box& frame)
+        : m_r(r), m_frame(frame), m_c{0.5 * (r.xmin + r.xmax), 0.5 * (r.ymin + r.ymax)} {}
+
+    /// The ring (open, >= 3 points) with its runs outside R replaced; empty when it goes.
+    std::vector<Coord> cut(const std::vector<Coord>& ring, bool& intact) const
+    {
+        const std::size_t n = ring.size();
+        std::vector<char> kept(n);
+        std::size_t first = n, count = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            kept[i] = segment_meets_box(ring[i], ring[(i + 1) % n], m_r);
+            if (kept[i]) { ++count; if (first == n) first = i; }
+        }
+        if (count == n) return ring;
+        intact = false;
+        if (count == 0) {
+            if (!point_in_ring(ring, m_c.x, m_c.y)) return {};
+            Box b;
+            for (const Coord& c : ring) b.add(c.x, c.y);
+            return {{b.xmin, b.ymin}, {b.xmax, b.ymin}, {b.xmax, b.ymax}, {b.xmin, b.ymax}};
+        }
+        std::vector<Coord> out;
+        // Start at a kept edge; walk once round the ring.
+        std::size_t i = first;
+        for (std::size_t step = 0; step < n;) {
+            if (kept[i]) {
+                out.push_back(ring[i]);
+                i = (i + 1) % n, ++step;
+                continue;
+            }
+            const Coord& a = ring[i];
+            double run = 0;
+            while (!kept[i] && step < n) {
+                run += sweep(m_c, ring[i], ring[(i + 1) % n]);
+                i = (i + 1) % n, ++step;
+            }
+            out.push_back(a);
+            const std::size_t from = out.size();
+            detour(a, ring[i], run, out);
+            for (std::size_t k = from; k < out.size(); ++k) out[k].z = a.z; // artifacts: any defined z
+        }
+        return out;
+    }
+
+private:
+    // Points strictly between a and b (both outside R) for a path that sweeps `run` round c.
+    void detour(const Coord& a, const Coord& b, double run, std::vector<Coord>& out) const
+    {
+        const double back = sweep(m_c, b, a);
+        if (std::lround((run + back) / k_two_pi) == 0 && !segment_meets_box(a, b, m_r.expanded(1e-9 * (m_r.width() + m_r.height()))))
+            return; // the straight shortcut goes round R as the run did
+        const Coord pa = spoke(a), pb = spoke(b);
+        const double aa = std::atan2(pa.y - m_c.y, pa.x - m_c.x), ab = std::atan2(pb.y - m_c.y, pb.x - m_c.x);
+        const double phi = (ab - aa) + k_two_pi * static_cast<double>(std::lround((run - (ab - aa)) / k_two_pi));
+        out.push_back(pa);
+        const Coord corners[4] = {{m_frame.xmax, m_frame.ymax}, {m_frame.xmin, m_frame.ymax},
+                                  {m_frame.xmin, m_frame.ymin}, {m_frame.xmax, m_frame.ymin}};
+        double ang[4];
+        for (int k = 0; k < 4; ++k) ang[k] = std::atan2(corners[k].y - m_c.y, corners[k].x - m_c.x);
+        // Corners in angular order along the sweep, unwrapped.
+        const double lo = phi > 0 ? aa : aa + phi, hi = phi > 0 ? aa + phi : aa;
+        std::vector<std::pair<double, int>> hits;
+        for (int k = 0; k < 4; ++k) {
+            double g = ang[k] + k_two_pi * std::ceil((lo - ang[k]) / k_two_pi);
+            for (; g < hi; g += k_two_pi)
+                if (g > lo) hits.emplace_back(g, k);
+        }
+        std::sort(hits.begin(), hits.end());
+        if (phi < 0) std::reverse(hits.begin(), hits.end());
+        for (const auto& h : hits) out.push_back(corners[h.second]);
+        out.push_back(pb);
+    }
+
+    // Where the ray from c through p leaves the frame (it never meets R beyond p).
+    Coord spoke(const Coord& p) const
+    {
+        const double dx = p.x - m_c.x, dy = p.y - m_c.y;
+        double s = std::numeric_limits<double>::infinity();
+        if (dx > 0) s = std::min(s, (m_frame.xmax - m_c.x) / dx);
+        if (dx < 0) s = std::min(s, (m_frame.xmin - m_c.x) / dx);
+        if (dy > 0) s = std::min(s, (m_frame.ymax - m_c.y) / dy);
+        if (dy < 0) s = std::min(s, (m_frame.ymin - m_c.y) / dy);
+        Coord q{m_c.x + s * dx, m_c.y + s * dy};
+        if (dx > 0 && q.x > m_frame.xmax) q.x = m_frame.xmax;
+        if (dx < 0 && q.x < m_frame.xmin) q.x = m_frame.xmin;
+        return q;
+    }
+
+    Box m_r, m_frame;
+    Coord m_c;
+};
+
+} // namespace
+
+bool segment_meets_box(const Coord& p, const Coord& q, const Box& b)
+{
+    if (std::max(p.x, q.x) < b.xmin || std::min(p.x, q.x) > b.xmax || std::max(p.y, q.y) < b.ymin ||
+        std::min(p.y, q.y) > b.ymax)
+        return false;
+    auto inside = [&](const Coord& c) { return b.xmin <= c.x && c.x <= b.xmax && b.ymin <= c.y && c.y <= b.ymax; };
+    if (inside(p) || inside(q)) return true;
+    const double dx = q.x - p.x, dy = q.y - p.y;
+    const double s[4] = {cross(dx, dy, b.xmin - p.x, b.ymin - p.y), cross(dx, dy, b.xmax - p.x, b.ymin - p.y),
+                         cross(dx, dy, b.xmax - p.x, b.ymax - p.y), cross(dx, dy, b.xmin - p.x, b.ymax - p.y)};
+    bool pos = false, neg = false;
+    for (double v : s) pos |= v >= 0, neg |= v <= 0;
+    return pos && neg;
+}
+
+TileInput build_tile_input(const std::vector<detail::CleanFeature>& clean, const std::vector<bool>& has_z,
+                           const std::vector<std::size_t>& candidates, const Box& R)
+{
+    TileInput in;
+    // The frame holds every vertex of a kept edge with room to spare.
+    Box frame = R;
+    for (std::size_t f : candidates) {
+        const detail::CleanFeature& cf = clean[f];
+        for (const auto& ring : cf.rings)
+            for (std::size_t i = 0; i < ring.points.size(); ++i) {
+                const Coord &p = ring.points[i], &q = ring.points[(i + 1) % ring.points.size()];
+                if (segment_meets_box(p, q, R)) frame.add(p.x, p.y), frame.add(q.x, q.y);
+            }
+    }
+    frame = frame.expanded(0.01 * (frame.width() + frame.height()) + 0.5 * (R.width() + R.height()));
+    const RingCutter cutter(R, frame);
+    for (std::size_t f : candidates) {
+        const detail::CleanFeature& cf = clean[f];
+        if (cf.rejected) continue;
+        Feature out;
+        out.id = cf.id;
+        bool intact = true;
+        if (cf.polygonal) {
+            out.geometry.type = Geometry::Type::MultiPolygon;
+            for (const auto& ring : cf.rings) {
+                std::vector<Coord> r = cutter.cut(ring.points, intact);
+                if (r.empty()) continue;
+                r.push_back(r.front());
+                if (out.geometry.polygons.size() <= ring.polygon) out.geometry.polygons.resize(ring.polygon + 1);
+                out.geometry.polygons[ring.polygon].rings.push_back(std::move(r));
+            }
+            std::erase_if(out.geometry.polygons, [](const Polygon& p) { return p.rings.empty(); });
+        } else {
+            out.geometry.type = Geometry::Type::MultiLineString;
+            for (const auto& line : cf.lines) {
+                Path part;
+                for (std::size_t i = 0; i + 1 < line.size(); ++i) {
+                    if (segment_meets_box(line[i], line[i + 1], R)) {
+                        if (part.empty()) part.push_back(line[i]);
+                        part.push_back(line[i + 1]);
+                    } else {
+                        intact = false;
+                        if (!part.empty()) out.geometry.lines.push_back(std::move(part)), part.clear();
+                    }
+                }
+                if (!part.empty()) out.geometry.lines.push_back(std::move(part));
+            }
+        }
+        if (out.geometry.empty()) continue;
+        for (const Polygon& p : out.geometry.polygons)
+            for (const Path& r : p.rings) in.vertices += r.size() - 1;
+        for (const Path& l : out.geometry.lines) in.vertices += l.size();
+        out.geometry.has_z = has_z[f];
+        in.features.push_back(std::move(out));
+        in.source.push_back(f);
+        in.intact.push_back(intact);
+    }
+    return in;
+}
+
+} // namespace trisnap::tiling

@@ -20,6 +20,7 @@ std::unique_ptr<Command> make_snap_command();
 std::unique_ptr<Command> make_validate_command();
 std::unique_ptr<Command> make_info_command();
 std::unique_ptr<Command> make_problems_command();
+std::unique_ptr<Command> make_render_command();
 std::unique_ptr<Command> make_assess_command();
 
 /// Log level from -v (repeatable) and -q; logs go to stderr, results to stdout.

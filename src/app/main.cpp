@@ -47,7 +47,8 @@ int main(int argc, char** argv)
     app.require_subcommand(1);
     std::vector<std::pair<CLI::App*, std::unique_ptr<trisnap::Command>>> commands;
     for (auto make : {trisnap::make_snap_command, trisnap::make_validate_command, trisnap::make_info_command,
-                      trisnap::make_problems_command, trisnap::make_assess_command}) {
+                      trisnap::make_problems_command, trisnap::make_assess_command,
+                      trisnap::make_render_command}) {
         auto command = make();
         CLI::App* sub = command->setup(app);
         commands.emplace_back(sub, std::move(command));

@@ -1,0 +1,66 @@
+// `trisnap render IN [SNAPPED] -o OUT.svg|png [--bbox ...] [--worst N]`: a picture of what
+// snapping did (src/render). setup() only parses; the checks that need no I/O run first in run().
+#include "app/command.hpp"
+#include "app/options.hpp"
+#include "config/errors.hpp"
+#include "render/render.hpp"
+
+#include <fmt/format.h>
+
+#include <iostream>
+
+namespace trisnap {
+namespace {
+
+class RenderCommand : public Command {
+public:
+    CLI::App* setup(CLI::App& parent) override
+    {
+        CLI::App* app = parent.add_subcommand("render", "draw a layer and its snapped output (SVG or PNG) with the worst sites marked");
+        app->add_option("IN", m_options.input, "input vector dataset (drawn thin)")->required();
+        app->add_option("SNAPPED", m_options.snapped, "snapped output of IN (drawn bold); without it IN is drawn alone");
+        app->add_option("-o,--output", m_options.output, "picture to write: .svg or .png")->required();
+        app->add_option("--bbox", m_bbox, "draw only xmin,ymin,xmax,ymax (layer units)");
+        app->add_option("--worst", m_worst, "one zoomed panel for each of the N worst sites (needs a tolerance)");
+        app->add_option("--tolerance", m_tolerance, "T in layer units: pairs closer than T and drift are measured against it");
+        app->add_option("--layer-a", m_options.layer_a, "layer of IN");
+        app->add_option("--layer-b", m_options.layer_b, "layer of SNAPPED");
+        app->add_option("--width", m_options.width, "picture width in pixels (default 1200)");
+        app->add_option("--problems", m_options.problems_report,
+                        "a `trisnap snap --report` JSON: mark its problems (and take T from it)");
+        return app;
+    }
+
+    int run() override
+    {
+        if (!m_bbox.empty()) {
+            const std::vector<double> b = parse_bbox(m_bbox);
+            m_options.bbox = render::Box{b[0], b[1], b[2], b[3]};
+        }
+        if (m_tolerance) m_options.tolerance = *m_tolerance;
+        if (m_worst) {
+            if (*m_worst < 1 || *m_worst > 100) throw argument_error(fmt::format("--worst must be 1..100, got {}", *m_worst));
+            m_options.worst = *m_worst;
+        }
+        const render::RenderResult result = render::render(m_options);
+        std::cout << fmt::format("{}: {} x {} px, {}\n", m_options.output, result.width, result.height,
+                                 result.panels ? fmt::format("{} panels", result.panels)
+                                               : fmt::format("{} sites marked", result.shown.size()));
+        std::cout << render::summarise(result);
+        if (m_options.worst > 0 && result.panels < static_cast<std::size_t>(m_options.worst))
+            std::cout << fmt::format("only {} distinct sites to show (asked for {})\n", result.panels, m_options.worst);
+        return 0;
+    }
+
+private:
+    render::RenderOptions m_options;
+    std::string m_bbox;
+    std::optional<double> m_tolerance;
+    std::optional<int> m_worst;
+};
+
+} // namespace
+
+std::unique_ptr<Command> make_render_command() { return std::make_unique<RenderCommand>(); }
+
+} // namespace trisnap

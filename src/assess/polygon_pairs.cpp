@@ -82,6 +82,17 @@ bool boundaries_meet(const LayerData& d, const Feature& fa, const Feature& fb)
     });
 }
 
+/// Area of the polygonal parts of a geometry (an intersection may hold lines and points too).
+double surface_area(const OGRGeometry& g)
+{
+    const OGRwkbGeometryType type = wkbFlatten(g.getGeometryType());
+    if (OGR_GT_IsSurface(type)) return g.toSurface()->get_Area();
+    if (!OGR_GT_IsSubClassOf(type, wkbGeometryCollection)) return 0;
+    double area = 0;
+    for (const OGRGeometry* member : *g.toGeometryCollection()) area += surface_area(*member);
+    return area;
+}
+
 /// Area of the intersection of two polygon features through OGR (GEOS), and its centroid.
 double intersection_area(const LayerData& d, const Feature& fa, const Feature& fb, Pt* where)
 {
@@ -94,7 +105,7 @@ double intersection_area(const LayerData& d, const Feature& fa, const Feature& f
     }
     CPLPopErrorHandler();
     if (!inter || inter->IsEmpty()) return 0;
-    const double area = OGR_G_Area(OGRGeometry::ToHandle(inter.get()));
+    const double area = surface_area(*inter);
     OGRPoint centroid;
     if (area > 0 && inter->Centroid(&centroid) == OGRERR_NONE) *where = {centroid.getX(), centroid.getY()};
     return area;

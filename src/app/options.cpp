@@ -45,6 +45,11 @@ void add_run_options(CLI::App& c, SnapArgs& a)
     c.add_flag("--print-config", a.print_config, "print the resolved configuration as TOML and exit");
     c.add_flag("--strict", a.strict, "exit with code 3 when any problem is reported");
     c.add_option("--threads", a.threads, "worker threads for GDAL and oneTBB; 0 = all cores ([run] threads)");
+    c.add_option("--tile-size", a.tile_size, "regular square tiles of this side in layer units; 0 = balanced by vertex count ([tiling] size)");
+    c.add_option("--tile-vertex-budget", a.tile_vertex_budget, "balanced tiles hold at most this many input vertices ([tiling] vertex_budget)");
+    c.add_option("--halo", a.halo, "tile halo width as a factor of the tolerance, >= 2 ([tiling] halo)");
+    c.add_option("--halo-max-growth", a.halo_max_growth, "times a tile's halo may double when a snap cascade reaches its core ([tiling] max_growth)");
+    c.add_flag("--no-tiles", a.no_tiles, "one triangulation for the whole layer ([tiling] no_tiles)");
     c.add_option("--progress", a.progress, "progress bar: auto (TTY only), always, never")
         ->check(CLI::IsMember({"auto", "always", "never"}));
     c.add_flag("--json-progress", a.json_progress, "progress as JSON lines on stderr");
@@ -95,6 +100,12 @@ Config resolve_config(const SnapArgs& args)
     overlay(args.max_drift_factor, config.snap.max_drift_factor);
     overlay(args.max_operations, config.snap.max_operations);
     overlay(args.threads, config.run.threads);
+    overlay(args.tile_size, config.tiling.size);
+    overlay(args.tile_vertex_budget, config.tiling.vertex_budget);
+    overlay(args.halo, config.tiling.halo);
+    overlay(args.halo_max_growth, config.tiling.max_growth);
+    if (args.no_tiles) config.tiling.no_tiles = true;
+    if (args.no_tiles && args.tile_size) throw argument_error("give --tile-size or --no-tiles, not both");
     if (std::string reason = check_config(config); !reason.empty()) throw argument_error(reason);
     return config;
 }

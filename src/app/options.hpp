@@ -31,6 +31,11 @@ struct SnapArgs {
     std::optional<double> max_drift_factor;
     std::optional<std::int64_t> max_operations;
     std::optional<int> threads;
+    std::optional<double> tile_size;
+    std::optional<std::int64_t> tile_vertex_budget;
+    std::optional<double> halo;
+    std::optional<int> halo_max_growth;
+    bool no_tiles = false;
     bool overwrite = false;
     bool strict = false;
     bool print_config = false;

@@ -87,19 +87,29 @@ Loaded read_all(Plan& plan, Progress& progress, RunResult& result)
     return loaded;
 }
 
-SnapResult run_engine(const Loaded& loaded, const SnapOptions& options, Progress& progress, RunResult& result)
+SnapResult run_engine(const Loaded& loaded, const Plan& plan, Progress& progress, RunResult& result)
 {
     const auto start = Clock::now();
-    progress.start("snap", static_cast<std::int64_t>(loaded.features.size()));
     SnapResult snapped;
     try {
-        snapped = snap(loaded.features, options);
+        if (plan.tiled) {
+            progress.start("snap tiles", -1);
+            stitch::TiledResult tiled = stitch::snap_tiled(loaded.features, plan.options, plan.tiling,
+                                                           [&](std::size_t done, std::size_t) { progress.update(static_cast<std::int64_t>(done)); });
+            snapped = std::move(tiled.result);
+            result.tiled = true;
+            result.tiles = std::move(tiled.tiles);
+            result.stitch = tiled.stitch;
+        } else {
+            progress.start("snap", static_cast<std::int64_t>(loaded.features.size()));
+            snapped = snap(loaded.features, plan.options);
+            progress.update(static_cast<std::int64_t>(loaded.features.size()));
+        }
     } catch (const std::exception& e) {
         throw std::runtime_error(std::string("snapping failed: ") + e.what());
     }
     if (snapped.features.size() != loaded.features.size())
         throw std::runtime_error("snapping failed: the engine returned a different number of features");
-    progress.update(static_cast<std::int64_t>(loaded.features.size()));
     progress.finish();
     result.stats = snapped.stats;
     result.seconds_snap = since(start);
@@ -180,7 +190,7 @@ RunResult run_pipeline(Plan& plan, Progress& progress)
 {
     RunResult result;
     Loaded loaded = read_all(plan, progress, result);
-    const SnapResult snapped = run_engine(loaded, plan.options, progress, result);
+    const SnapResult snapped = run_engine(loaded, plan, progress, result);
     collect_engine_problems(loaded, snapped, result);
     write_all(plan, loaded, snapped, result, progress);
     std::stable_sort(result.problems.begin(), result.problems.end(), [](const Problem& a, const Problem& b) {

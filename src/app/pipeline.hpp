@@ -6,6 +6,7 @@
 #include "app/progress.hpp"
 #include "core/problems.hpp"
 #include "core/snap.hpp"
+#include "stitch/tiled_snap.hpp"
 
 #include <vector>
 
@@ -22,6 +23,9 @@ struct RunResult {
     std::size_t input_vertices = 0;
     bool fids_renumbered = false;  ///< input FIDs were missing or duplicated
     SnapStats stats;
+    bool tiled = false;
+    std::vector<stitch::TileReport> tiles; ///< executed tiles, by first plan leaf
+    stitch::StitchStats stitch;
     double seconds_read = 0.0;
     double seconds_snap = 0.0;
     double seconds_write = 0.0;

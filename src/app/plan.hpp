@@ -6,6 +6,7 @@
 #include "config/config.hpp"
 #include "core/snap.hpp"
 #include "io/writer.hpp"
+#include "stitch/tiled_snap.hpp"
 
 #include <gdal_priv.h>
 #include <ogrsf_frmts.h>
@@ -29,6 +30,8 @@ struct Plan {
     WriteOptions write;
     std::string output_driver;
     bool keeps_fids = false;
+    bool tiled = true;                ///< false with --no-tiles
+    stitch::TilingOptions tiling;     ///< tile size in layer units; threads from [run]
 };
 
 /// Checks options and config, opens the input, chooses the layer, applies --where/--bbox,

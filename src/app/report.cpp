@@ -27,7 +27,10 @@ ordered_json config_json(const Plan& plan)
     snap["grid"] = s.grid;
     snap["max_drift_factor"] = s.max_drift_factor;
     snap["max_operations"] = s.max_operations;
-    return {{"snap", snap}, {"run", {{"threads", plan.config.run.threads}}},
+    const TilingConfig& t = plan.config.tiling;
+    ordered_json tiling = {{"size", t.size}, {"vertex_budget", t.vertex_budget}, {"halo", t.halo},
+                           {"max_growth", t.max_growth}, {"no_tiles", t.no_tiles}};
+    return {{"snap", snap}, {"tiling", tiling}, {"run", {{"threads", plan.config.run.threads}}},
             {"tolerance_layer_units", plan.tolerance}, {"tolerance_note", plan.tolerance_note}};
 }
 
@@ -54,6 +57,27 @@ ordered_json timings_json(const RunResult& r, double total)
     return {{"read", r.seconds_read}, {"snap", r.seconds_snap}, {"write", r.seconds_write}, {"total", total},
             {"engine", {{"triangulate", s.seconds_triangulate}, {"snap", s.seconds_snap},
                         {"label", s.seconds_label}, {"extract", s.seconds_extract}}}};
+}
+
+ordered_json tiling_json(const Plan& plan, const RunResult& r)
+{
+    if (!r.tiled) return {{"tiled", false}};
+    const stitch::StitchStats& s = r.stitch;
+    ordered_json out = {{"tiled", true},
+        {"plan", {{"tile_size", plan.tiling.plan.tile_size}, {"vertex_budget", plan.tiling.plan.vertex_budget},
+                  {"halo_factor", plan.tiling.halo_factor}, {"max_growth", plan.tiling.max_growth}}},
+        {"leaves", s.leaves}, {"tiles", s.tiles}, {"tile_runs", s.tile_runs}, {"seam_merges", s.seam_merges},
+        {"halo_growths", s.halo_growths}, {"unbounded_cascades", s.unbounded_cascades},
+        {"copied_features", s.copied_features}, {"assembled_features", s.assembled_features},
+        {"seconds_tiles", s.seconds_tiles}, {"seconds_stitch", s.seconds_stitch}};
+    ordered_json list = ordered_json::array();
+    for (const stitch::TileReport& t : r.tiles)
+        list.push_back({{"id", t.id}, {"leaves", t.leaves}, {"core", {t.core.xmin, t.core.ymin, t.core.xmax, t.core.ymax}},
+                        {"halo", t.halo}, {"halo_growths", t.growths}, {"runs", t.runs}, {"features", t.features},
+                        {"input_vertices", t.input_vertices}, {"owned_edges", t.output_edges_owned},
+                        {"problems", t.problems}, {"seconds", t.seconds}});
+    out["list"] = list;
+    return out;
 }
 
 ordered_json coordinate(double v) { return std::isfinite(v) ? ordered_json(v) : ordered_json(nullptr); }
@@ -110,6 +134,7 @@ void write_report(const std::string& path, const Plan& plan, const RunResult& re
     report["engine"] = stats_json(result.stats);
     report["timings_s"] = timings_json(result, total_seconds);
     report["peak_memory_mb"] = peak_memory_mb();
+    report["tiling"] = tiling_json(plan, result);
     report["problems_by_code"] = by_code_json(result.problems);
     report["problems"] = problems_json(result.problems);
     std::ofstream file(path);

@@ -75,6 +75,31 @@ const std::vector<KeySpec>& key_specs()
              if (v) c.snap.max_operations = v->get();
              return v != nullptr;
          }},
+        {"tiling", "size", [](const toml::node& n, Config& c) {
+             auto v = n.value<double>();
+             if (v) c.tiling.size = *v;
+             return v.has_value();
+         }},
+        {"tiling", "vertex_budget", [](const toml::node& n, Config& c) {
+             auto v = n.as_integer();
+             if (v) c.tiling.vertex_budget = v->get();
+             return v != nullptr;
+         }},
+        {"tiling", "halo", [](const toml::node& n, Config& c) {
+             auto v = n.value<double>();
+             if (v) c.tiling.halo = *v;
+             return v.has_value();
+         }},
+        {"tiling", "max_growth", [](const toml::node& n, Config& c) {
+             auto v = n.as_integer();
+             if (v) c.tiling.max_growth = static_cast<int>(v->get());
+             return v != nullptr;
+         }},
+        {"tiling", "no_tiles", [](const toml::node& n, Config& c) {
+             auto v = n.as_boolean();
+             if (v) c.tiling.no_tiles = v->get();
+             return v != nullptr;
+         }},
         {"run", "threads", [](const toml::node& n, Config& c) {
              auto v = n.as_integer();
              if (v) c.run.threads = static_cast<int>(v->get());
@@ -151,10 +176,10 @@ void load_config_file(const std::string& path, Config& config)
     const toml::table root = parse_toml(path);
     for (auto&& [key, node] : root) {
         const std::string section(key.str());
-        const bool known = section == "snap" || section == "run";
+        const bool known = section == "snap" || section == "run" || section == "tiling";
         if (!known || !node.is_table())
             throw config_error(path, line_of(node), section,
-                               known ? "must be a table" : "unknown section (expected [snap] or [run])");
+                               known ? "must be a table" : "unknown section (expected [snap], [tiling] or [run])");
         load_section(path, section, *node.as_table(), config);
     }
 }
@@ -170,6 +195,10 @@ std::string to_toml(const Config& config)
     out += "grid = " + toml_float(s.grid) + "\n";
     out += "max_drift_factor = " + toml_float(s.max_drift_factor) + "\n";
     out += "max_operations = " + std::to_string(s.max_operations) + "\n";
+    const TilingConfig& t = config.tiling;
+    out += "\n[tiling]\nsize = " + toml_float(t.size) + "\nvertex_budget = " + std::to_string(t.vertex_budget) +
+           "\nhalo = " + toml_float(t.halo) + "\nmax_growth = " + std::to_string(t.max_growth) +
+           "\nno_tiles = " + (t.no_tiles ? "true" : "false") + "\n";
     out += "\n[run]\nthreads = " + std::to_string(config.run.threads) + "\n";
     return out;
 }
@@ -192,6 +221,11 @@ std::string check_config(const Config& config)
         return "max_drift_factor must be > 0, got " + num(s.max_drift_factor);
     if (s.max_operations < 0) return "max_operations must be >= 0";
     if (config.run.threads < 0) return "threads must be >= 0";
+    const TilingConfig& t = config.tiling;
+    if (bad(t.size) || t.size < 0) return "tiling.size must be >= 0 (0 = balanced tiles), got " + num(t.size);
+    if (t.vertex_budget < 16) return "tiling.vertex_budget must be >= 16, got " + std::to_string(t.vertex_budget);
+    if (bad(t.halo) || t.halo < 2) return "tiling.halo must be >= 2 (a factor of the tolerance), got " + num(t.halo);
+    if (t.max_growth < 0 || t.max_growth > 10) return "tiling.max_growth must be in [0, 10], got " + std::to_string(t.max_growth);
     return "";
 }
 

@@ -1,0 +1,160 @@
+// The tile plan (one owner per point, balanced by vertex count, regular grids anchored at
+// multiples of the size) and the tile input (rings cut and closed outside the tile keep the
+// membership of every point of the tile).
+#include "generators.hpp"
+#include "tiling/plan.hpp"
+#include "tiling/tile_input.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace trisnap {
+namespace {
+
+using tiling::Box;
+
+bool in_region(const Region& r, double x, double y) { return r.contains(x, y); }
+
+TEST(TilePlan, EveryPointHasExactlyOneOwnerAndQueriesAgree)
+{
+    const auto features = perturbed_grid_coverage(30, 30, 10.0, 0.2, 1);
+    tiling::PlanOptions o;
+    o.vertex_budget = 400;
+    const tiling::TilePlan plan = tiling::make_plan(features, o);
+    ASSERT_GT(plan.size(), 8u);
+    std::mt19937_64 rng(3);
+    for (int i = 0; i < 2000; ++i) {
+        const double x = uniform(rng, -50, 350), y = uniform(rng, -50, 350);
+        std::size_t owners = 0;
+        for (std::size_t k = 0; k < plan.size(); ++k) owners += in_region(plan.core(k), x, y);
+        ASSERT_EQ(owners, 1u) << x << " " << y;
+        const std::size_t leaf = plan.leaf_of(x, y);
+        EXPECT_TRUE(in_region(plan.core(leaf), x, y));
+        std::vector<std::size_t> hits;
+        plan.query(Box{x, y, x, y}, hits);
+        EXPECT_NE(std::find(hits.begin(), hits.end(), leaf), hits.end());
+    }
+    // A split line belongs to the right/upper tile (half-open cores).
+    const Region& c = plan.core(plan.leaf_of(150, 150));
+    if (std::isfinite(c.xmin)) EXPECT_EQ(plan.leaf_of(c.xmin, 150), plan.leaf_of(150, 150));
+}
+
+TEST(TilePlan, BalancedTilesRespectTheVertexBudget)
+{
+    const auto features = perturbed_grid_coverage(40, 40, 10.0, 0.2, 2);
+    tiling::PlanOptions o;
+    o.vertex_budget = 1000;
+    const tiling::TilePlan plan = tiling::make_plan(features, o);
+    std::vector<std::size_t> count(plan.size(), 0);
+    std::size_t total = 0;
+    for (const Feature& f : features)
+        for (const Polygon& p : f.geometry.polygons)
+            for (const Path& r : p.rings)
+                for (const Coord& q : r) ++count[plan.leaf_of(q.x, q.y)], ++total;
+    EXPECT_EQ(total, plan.input_vertices());
+    for (std::size_t n : count) EXPECT_LE(n, 1000u);
+    EXPECT_LE(plan.size(), 2 * total / 1000 + 2); // median splits: not needlessly many
+}
+
+TEST(TilePlan, RegularGridIsAnchoredAtMultiplesOfTheSize)
+{
+    const auto features = perturbed_grid_coverage(10, 10, 10.0, 0.2, 4);
+    tiling::PlanOptions o;
+    o.tile_size = 25;
+    const tiling::TilePlan plan = tiling::make_plan(features, o);
+    EXPECT_EQ(plan.size(), 25u); // extent 0..100: x = 100 opens a fifth column (half-open cores)
+    for (std::size_t k = 0; k < plan.size(); ++k) {
+        const Region& r = plan.core(k);
+        for (double v : {r.xmin, r.xmax, r.ymin, r.ymax})
+            if (std::isfinite(v)) EXPECT_EQ(std::fmod(v, 25.0), 0.0);
+    }
+    o.tile_size = 1e-4;
+    EXPECT_THROW(tiling::make_plan(features, o), std::invalid_argument);
+}
+
+bool point_in_path(const Path& ring, double x, double y)
+{
+    bool in = false;
+    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+        const Coord &a = ring[i], &b = ring[j];
+        if ((a.y > y) != (b.y > y) && x < (b.x - a.x) * (y - a.y) / (b.y - a.y) + a.x) in = !in;
+    }
+    return in;
+}
+
+bool inside(const Geometry& g, double x, double y)
+{
+    bool in = false;
+    for (const Polygon& p : g.polygons)
+        for (const Path& r : p.rings) in ^= point_in_path(r, x, y);
+    return in;
+}
+
+// A spiral that winds twice round the tile, a C-shape around it, a ring enclosing it without
+// touching it, and a hole: cut to the tile, every point of the tile keeps its membership.
+TEST(TileInput, CutRingsKeepMembershipInsideTheTile)
+{
+    std::vector<Feature> features(3);
+    Path spiral;
+    for (int i = 0; i <= 400; ++i) {
+        const double a = 4 * M_PI * i / 400, r = 30 + 10 * a;
+        spiral.push_back({r * std::cos(a), r * std::sin(a)});
+    }
+    for (int i = 400; i >= 0; --i) {
+        const double a = 4 * M_PI * i / 400, r = 34 + 10 * a;
+        spiral.push_back({r * std::cos(a), r * std::sin(a)});
+    }
+    spiral.push_back(spiral.front());
+    features[0].id = 1;
+    features[0].geometry.type = Geometry::Type::Polygon;
+    features[0].geometry.polygons = {Polygon{{spiral}}};
+    features[1].id = 2;
+    features[1].geometry.type = Geometry::Type::Polygon;
+    features[1].geometry.polygons = {Polygon{{{{-300, -300}, {300, -300}, {300, 300}, {-300, 300}, {-300, -300}},
+                                              {{-5, -5}, {-5, 5}, {5, 5}, {5, -5}, {-5, -5}}}}};
+    Path c_shape{{-60, -60}, {60, -60}, {60, -50}, {-50, -50}, {-50, 50}, {60, 50}, {60, 60}, {-60, 60}, {-60, -60}};
+    features[2].id = 3;
+    features[2].geometry.type = Geometry::Type::Polygon;
+    features[2].geometry.polygons = {Polygon{{c_shape}}};
+    std::vector<Problem> problems;
+    const auto clean = detail::clean_input(features, 0.01, problems);
+    const std::vector<bool> has_z(clean.size(), false);
+    std::mt19937_64 rng(9);
+    for (const Box R : {Box{20, -10, 45, 15}, Box{-8, -8, 8, 8}, Box{55, -20, 70, 20}, Box{-100, 80, 120, 140}}) {
+        const tiling::TileInput in = tiling::build_tile_input(clean, has_z, {0, 1, 2}, R);
+        ASSERT_EQ(in.features.size(), in.source.size());
+        for (std::size_t k = 0; k < in.features.size(); ++k) {
+            const Geometry& original = features[in.source[k]].geometry;
+            for (int i = 0; i < 3000; ++i) {
+                const double x = uniform(rng, R.xmin, R.xmax), y = uniform(rng, R.ymin, R.ymax);
+                ASSERT_EQ(inside(in.features[k].geometry, x, y), inside(original, x, y))
+                    << "feature " << in.features[k].id << " at " << x << " " << y;
+            }
+        }
+        EXPECT_GE(in.features.size(), 1u); // the big square encloses every box
+    }
+}
+
+TEST(TileInput, LinesKeepTheirRunsThatMeetTheTile)
+{
+    std::vector<Feature> features(1);
+    features[0].id = 7;
+    features[0].geometry.type = Geometry::Type::LineString;
+    features[0].geometry.lines = {{{0, 0}, {10, 0}, {20, 0}, {20, 10}, {0, 10}, {0, 20}, {30, 20}}};
+    std::vector<Problem> problems;
+    const auto clean = detail::clean_input(features, 0.01, problems);
+    const tiling::TileInput in = tiling::build_tile_input(clean, {false}, {0}, Box{15, -1, 25, 1});
+    ASSERT_EQ(in.features.size(), 1u);
+    EXPECT_FALSE(in.intact[0]);
+    ASSERT_EQ(in.features[0].geometry.lines.size(), 1u);
+    const Path& part = in.features[0].geometry.lines[0];
+    ASSERT_EQ(part.size(), 3u); // (10,0)-(20,0)-(20,10) meet the box; the other edges do not
+    EXPECT_EQ(part[0].x, 10.0);
+    EXPECT_EQ(part[2].x, 20.0);
+    EXPECT_EQ(part[2].y, 10.0);
+}
+
+} // namespace
+} // namespace trisnap

@@ -1,0 +1,77 @@
+// Tiled snapping on real layers from ../shared/data: the stitched output holds the contract,
+// a planar partition stays one, and features equal the untiled run's (target >= 99.99 %).
+// Small layers run by default (label unit); big ones under `slow`. Each prints a [tiles] line.
+#include "ogr_layer_reader.hpp"
+#include "test_data.hpp"
+#include "tiled_check.hpp"
+
+#include <gtest/gtest.h>
+
+#include <iostream>
+
+namespace trisnap {
+namespace {
+
+struct TiledCase {
+    std::string name;
+    const char* file;
+    const char* layer;
+    double tolerance;
+    double tile_size; ///< 0: balanced with `budget`
+    std::size_t budget = 100000;
+    bool partition = false;
+};
+
+std::string case_name(const ::testing::TestParamInfo<TiledCase>& info) { return info.param.name; }
+
+void run_case(const TiledCase& c)
+{
+    const auto path = shared_data(c.file);
+    if (!path) GTEST_SKIP() << "data set absent: " << TRISNAP_SHARED_DATA << "/" << c.file;
+    const LayerData data = read_ogr_layer(*path, c.layer);
+    ASSERT_FALSE(data.features.empty());
+    const SnapOptions o = options_at(c.tolerance);
+    stitch::TilingOptions tiling = tiles_of(c.tile_size);
+    tiling.plan.vertex_budget = c.budget;
+    const SnapResult untiled = snap(data.features, o);
+    const TiledRun run = tiled_and_check(data.features, o, tiling);
+    const auto diff = differing(untiled, run.tiled.result);
+    const std::size_t n = data.features.size();
+    std::cout << "[tiles] " << c.file << ":" << c.layer << " t=" << c.tolerance << " tiles " << run.tiled.stitch.tiles
+              << " (plan " << run.tiled.stitch.leaves << ", seam merges " << run.tiled.stitch.seam_merges
+              << ", halo growths " << run.tiled.stitch.halo_growths << "), assembled " << run.tiled.stitch.assembled_features
+              << ", identical " << n - diff.size() << "/" << n << "\n";
+    EXPECT_TRUE(contract_holds(run.report, c.tolerance)) << run.report.summary();
+    EXPECT_EQ(run.tiled.result.features.size(), n);
+    EXPECT_LE(static_cast<double>(diff.size()), 1e-4 * static_cast<double>(n))
+        << diff.size() << " features differ from the untiled run, first id " << (diff.empty() ? 0 : diff.front());
+    EXPECT_EQ(problems_without_seams(untiled.problems), problems_without_seams(run.tiled.result.problems));
+    EXPECT_GT(run.tiled.stitch.leaves, 1u) << "the case should cut the layer";
+    if (c.partition) {
+        EXPECT_EQ(run.report.n_overlaps_new, 0u) << run.report.summary();
+        EXPECT_EQ(run.report.n_shared_lost, 0u) << run.report.summary();
+    }
+}
+
+class TiledRealData : public ::testing::TestWithParam<TiledCase> {};
+class TiledRealDataSlow : public ::testing::TestWithParam<TiledCase> {};
+TEST_P(TiledRealData, ContractAndInvariance) { run_case(GetParam()); }
+TEST_P(TiledRealDataSlow, ContractAndInvariance) { run_case(GetParam()); }
+
+const char* bgt = "bgt_delft_3dfier/bgt_delft.gpkg";
+
+INSTANTIATE_TEST_SUITE_P(Layers, TiledRealData, ::testing::Values(
+    TiledCase{"BgtPartitionTinyTiles10cm", bgt, "bgt_maaiveld_partition", 0.1, 20, 0, true},
+    TiledCase{"BgtPartitionSmallTiles1m", bgt, "bgt_maaiveld_partition", 1.0, 150, 0, true},
+    TiledCase{"BgtPartitionBalanced1cm", bgt, "bgt_maaiveld_partition", 0.01, 0, 2000, true},
+    TiledCase{"AndorraSmallTiles", "snapoly_andorra/andorra.gpkg", "andorra", 1e-6, 0.01}), case_name);
+
+INSTANTIATE_TEST_SUITE_P(Layers, TiledRealDataSlow, ::testing::Values(
+    TiledCase{"MonacoMultipolygons1e5", "osm_monaco_osrm_2020/monaco_osrm_2020.gpkg", "multipolygons", 1e-5, 0.003},
+    TiledCase{"NjshoreOnePolygon254kVertices", "osm_hard_polygons_planetiler/planetiler_hard_polygons.gpkg", "njshore", 1e-6, 0, 20000},
+    TiledCase{"NaturalEarthOcean6823Holes", "natural_earth/natural_earth.gpkg", "ne_10m_ocean", 1e-5, 0, 50000},
+    TiledCase{"NaturalEarthLand", "natural_earth/natural_earth.gpkg", "ne_10m_land", 1e-5, 0, 50000},
+    TiledCase{"JakartaBuildings", "osm_buildings_mvt_boston_jakarta/jakarta_buildings_z13.gpkg", "building", 1e-6, 0, 20000}), case_name);
+
+} // namespace
+} // namespace trisnap

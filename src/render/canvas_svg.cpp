@@ -1,4 +1,4 @@
-// SVG output: one element per call, coordinates in pixels with at most two decimals, so files
+// SVG output: one element per call, coordinates in pixels with one decimal, so files
 // stay small and the same input gives the same bytes.
 #include "render/canvas.hpp"
 
@@ -8,13 +8,15 @@
 
 #include <cmath>
 #include <fstream>
+#include <optional>
 
 namespace trisnap::render {
 namespace {
 
+/// A tenth of a pixel is below what any viewer shows.
 std::string num(double v)
 {
-    std::string s = fmt::format("{:.2f}", std::round(v * 100) / 100);
+    std::string s = fmt::format("{:.1f}", std::round(v * 10) / 10);
     while (s.back() == '0') s.pop_back();
     if (s.back() == '.') s.pop_back();
     return s == "-0" ? "0" : s;
@@ -42,7 +44,7 @@ std::string style_attributes(const Style& style, bool closed)
     std::string out;
     if (style.fill && closed) {
         out += " fill=\"" + colour(*style.fill) + "\" fill-rule=\"evenodd\"";
-        if (style.fill->a != 255) out += " fill-opacity=\"" + num(style.fill->a / 255.0) + "\"";
+        if (style.fill->a != 255) out += fmt::format(" fill-opacity=\"{:.2f}\"", style.fill->a / 255.0);
     } else {
         out += " fill=\"none\"";
     }
@@ -65,12 +67,17 @@ public:
 
     void begin_clip(const Box& px) override
     {
+        close_group();
         m_body += fmt::format("<clipPath id=\"clip{0}\"><rect x=\"{1}\" y=\"{2}\" width=\"{3}\" height=\"{4}\"/></clipPath>\n"
                               "<g clip-path=\"url(#clip{0})\">\n",
                               m_clips++, num(px.xmin), num(px.ymin), num(px.width()), num(px.height()));
     }
 
-    void end_clip() override { m_body += "</g>\n"; }
+    void end_clip() override
+    {
+        close_group();
+        m_body += "</g>\n";
+    }
 
     void path(const PixelRings& rings, bool closed, const Style& style, const char* cls) override
     {
@@ -81,23 +88,34 @@ public:
             if (closed && !ring.empty()) d += " Z";
         }
         if (d.empty()) return;
-        m_body += fmt::format("<path class=\"{}\" d=\"{}\"{}/>\n", cls, d, style_attributes(style, closed));
+        // Runs of paths with one style share a <g> carrying it: a big layer's file is mostly
+        // coordinates, not repeated attributes.
+        const std::string attributes = style_attributes(style, closed);
+        if (!m_group || *m_group != attributes) {
+            close_group();
+            m_body += "<g" + attributes + ">\n";
+            m_group = attributes;
+        }
+        m_body += fmt::format("<path class=\"{}\" d=\"{}\"/>\n", cls, d);
     }
 
     void circle(XY c, double r, const Style& style, const char* cls) override
     {
+        close_group();
         m_body += fmt::format("<circle class=\"{}\" cx=\"{}\" cy=\"{}\" r=\"{}\"{}/>\n", cls, num(c.x), num(c.y), num(r),
                               style_attributes(style, true));
     }
 
     void rect(const Box& px, const Style& style, const char* cls) override
     {
+        close_group();
         m_body += fmt::format("<rect class=\"{}\" x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\"{}/>\n", cls, num(px.xmin),
                               num(px.ymin), num(px.width()), num(px.height()), style_attributes(style, true));
     }
 
     void text(XY at, const std::string& text, int size, Rgba c, Anchor anchor) override
     {
+        close_group();
         const char* a = anchor == Anchor::start ? "start" : anchor == Anchor::middle ? "middle" : "end";
         m_body += fmt::format("<text x=\"{}\" y=\"{}\" font-size=\"{}\" fill=\"{}\" text-anchor=\"{}\">{}</text>\n",
                               num(at.x), num(at.y), 10 * size, colour(c), a, escape(text));
@@ -105,13 +123,21 @@ public:
 
     void save(const std::string& path) override
     {
+        close_group();
         std::ofstream file(path, std::ios::binary);
         file << m_body << "</svg>\n";
         if (!file) throw io_error(path, "", "cannot write the picture");
     }
 
 private:
+    void close_group()
+    {
+        if (m_group) m_body += "</g>\n";
+        m_group.reset();
+    }
+
     std::string m_body;
+    std::optional<std::string> m_group; ///< attributes of the open style group
     int m_clips = 0;
 };
 

@@ -1,5 +1,7 @@
 #include "app/pipeline.hpp"
 
+#include "config/errors.hpp"
+
 #include "app/interrupt.hpp"
 #include "io/io_error.hpp"
 #include "io/ogr_geometry.hpp"
@@ -105,6 +107,8 @@ SnapResult run_engine(const Loaded& loaded, const Plan& plan, Progress& progress
             snapped = snap(loaded.features, plan.options);
             progress.update(static_cast<std::int64_t>(loaded.features.size()));
         }
+    } catch (const std::invalid_argument& e) { // options the data made unusable (a tile size too small for the extent)
+        throw argument_error(e.what());
     } catch (const std::exception& e) {
         throw std::runtime_error(std::string("snapping failed: ") + e.what());
     }

@@ -25,6 +25,7 @@ public:
         app->add_option("--tolerance", m_tolerance, "T in layer units: pairs closer than T and drift are measured against it");
         app->add_option("--layer-a", m_options.layer_a, "layer of IN");
         app->add_option("--layer-b", m_options.layer_b, "layer of SNAPPED");
+        app->add_option("--key", m_options.key, "match features by this integer field (default: orig_fid if present, else FID)");
         app->add_option("--width", m_options.width, "picture width in pixels (default 1200)");
         app->add_option("--problems", m_options.problems_report,
                         "a `trisnap snap --report` JSON: mark its problems (and take T from it)");

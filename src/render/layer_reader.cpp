@@ -1,11 +1,13 @@
 #include "render/layer_reader.hpp"
 
+#include "config/errors.hpp"
 #include "io/dataset.hpp"
 #include "io/gdal_errors.hpp"
 
 #include <ogr_spatialref.h>
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 
 namespace trisnap::render {
@@ -17,6 +19,7 @@ std::vector<XY> ring_points(const OGRSimpleCurve& curve)
     points.reserve(static_cast<std::size_t>(curve.getNumPoints()));
     for (int i = 0; i < curve.getNumPoints(); ++i) {
         const XY p{curve.getX(i), curve.getY(i)};
+        if (!std::isfinite(p.x) || !std::isfinite(p.y)) continue; // cannot be drawn or measured
         if (points.empty() || !(points.back() == p)) points.push_back(p);
     }
     return points;
@@ -57,16 +60,31 @@ CrsInfo crs_info(const OGRSpatialReference* srs)
     return info;
 }
 
-std::int64_t key_of(OGRFeature& feature, int orig_fid_field)
+std::int64_t key_of(OGRFeature& feature, int key_field)
 {
-    if (orig_fid_field >= 0 && feature.IsFieldSetAndNotNull(orig_fid_field))
-        return feature.GetFieldAsInteger64(orig_fid_field);
+    if (key_field >= 0 && feature.IsFieldSetAndNotNull(key_field))
+        return feature.GetFieldAsInteger64(key_field);
     return feature.GetFID();
+}
+
+int key_field_index(OGRLayer& layer, const std::string& path, const std::string& key_field)
+{
+    OGRFeatureDefn* defn = layer.GetLayerDefn();
+    if (key_field.empty()) return defn->GetFieldIndex("orig_fid");
+    const int index = defn->GetFieldIndex(key_field.c_str());
+    if (index < 0) {
+        std::string fields;
+        for (int i = 0; i < defn->GetFieldCount(); ++i) fields += (i ? ", " : "") + std::string(defn->GetFieldDefn(i)->GetNameRef());
+        throw argument_error(path + " (layer '" + layer.GetName() + "'): --key: no field '" + key_field +
+                             "'; fields: " + (fields.empty() ? "none" : fields));
+    }
+    return index;
 }
 
 } // namespace
 
-Layer read_layer(const std::string& path, const std::string& layer_name, const std::optional<Box>& bbox)
+Layer read_layer(const std::string& path, const std::string& layer_name, const std::optional<Box>& bbox,
+                 const std::string& key_field)
 {
     GDALDatasetUniquePtr dataset = open_input(path);
     OGRLayer& ogr_layer = select_layer(*dataset, path, layer_name);
@@ -75,14 +93,14 @@ Layer read_layer(const std::string& path, const std::string& layer_name, const s
     layer.name = ogr_layer.GetName();
     layer.crs = crs_info(ogr_layer.GetSpatialRef());
     if (bbox) ogr_layer.SetSpatialFilterRect(bbox->xmin, bbox->ymin, bbox->xmax, bbox->ymax);
-    const int orig_fid_field = ogr_layer.GetLayerDefn()->GetFieldIndex("orig_fid");
+    const int key_index = key_field_index(ogr_layer, path, key_field);
     ScopedErrorCapture capture; // unreadable features are skipped, not printed
     ogr_layer.ResetReading();
     for (OGRFeatureUniquePtr feature(ogr_layer.GetNextFeature()); feature; feature.reset(ogr_layer.GetNextFeature())) {
         const OGRGeometry* geometry = feature->GetGeometryRef();
         if (!geometry || geometry->IsEmpty()) continue;
         Shape shape;
-        shape.key = key_of(*feature, orig_fid_field);
+        shape.key = key_of(*feature, key_index);
         add_geometry(*geometry, shape);
         if (shape.rings.empty()) continue;
         for (const auto& ring : shape.rings)

@@ -42,8 +42,8 @@ Inputs read_inputs(const RenderOptions& o)
     if (!inputs.tolerance) inputs.tolerance = report_tolerance;
     if (o.worst > 0 && !inputs.tolerance)
         throw argument_error("--worst needs --tolerance T (or a --problems report that records it): sites are ranked in multiples of T");
-    inputs.in = read_layer(o.input, o.layer_a, o.bbox);
-    if (!o.snapped.empty()) inputs.out = read_layer(o.snapped, o.layer_b, o.bbox);
+    inputs.in = read_layer(o.input, o.layer_a, o.bbox, o.key);
+    if (!o.snapped.empty()) inputs.out = read_layer(o.snapped, o.layer_b, o.bbox, o.key);
     if (inputs.in.shapes.empty() && (!inputs.out || inputs.out->shapes.empty()))
         throw io_error(o.input, inputs.in.name, o.bbox ? "no feature in --bbox: nothing to draw" : "no polygons or lines to draw");
     if (o.bbox)

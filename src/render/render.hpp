@@ -17,6 +17,7 @@ struct RenderOptions {
     std::string layer_a;         ///< layer of `input` (empty: the only polygon/line layer)
     std::string layer_b;         ///< layer of `snapped`
     std::string problems_report; ///< a `trisnap snap --report` JSON file
+    std::string key;             ///< integer field matching features (default: orig_fid, else FID)
     std::optional<Box> bbox;     ///< read and show only this part (layer units)
     std::optional<double> tolerance; ///< T; else the report's tolerance_layer_units
     int worst = 0;               ///< > 0: panels of the N worst sites

@@ -26,7 +26,10 @@ double nearest_on(const std::vector<Segment>& segments, const GridIndex& grid, X
         const double d = distance_to_segment(p, segments[i].a, segments[i].b, &q);
         if (d < best || (d == best && q < near)) best = d, near = q;
     };
+    // Widen while the cells to visit stay fewer than the segments; then scanning all is cheaper.
     for (double r = grid.cell(); r <= limit; r *= 2) {
+        const double cells = std::pow(2 * r / grid.cell() + 1, 2);
+        if (cells > static_cast<double>(segments.size()) + 9) break;
         grid.visit(p, r, consider);
         if (best <= r) return best;
     }

@@ -16,8 +16,10 @@
 namespace trisnap::test {
 namespace {
 
-/// Writes a GPKG layer "shapes" without CRS whose features have the given FIDs and WKT.
-void write_layer(const std::string& path, const std::vector<std::pair<std::int64_t, std::string>>& features)
+/// Writes a GPKG layer "shapes" without CRS whose features have the given FIDs and WKT, and
+/// with `src` values an integer field "src" (one per feature).
+void write_layer(const std::string& path, const std::vector<std::pair<std::int64_t, std::string>>& features,
+                 const std::vector<std::int64_t>& src = {})
 {
     GDALAllRegister();
     GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GPKG");
@@ -26,9 +28,15 @@ void write_layer(const std::string& path, const std::vector<std::pair<std::int64
     ASSERT_TRUE(ds);
     OGRLayer* layer = ds->CreateLayer("shapes", nullptr, wkbUnknown, nullptr);
     ASSERT_TRUE(layer);
-    for (const auto& [fid, wkt] : features) {
+    if (!src.empty()) {
+        OGRFieldDefn field("src", OFTInteger64);
+        ASSERT_EQ(layer->CreateField(&field), OGRERR_NONE);
+    }
+    for (std::size_t i = 0; i < features.size(); ++i) {
+        const auto& [fid, wkt] = features[i];
         OGRFeature feature(layer->GetLayerDefn());
         feature.SetFID(fid);
+        if (!src.empty()) feature.SetField("src", static_cast<GIntBig>(src[i]));
         OGRGeometry* g = nullptr;
         ASSERT_EQ(OGRGeometryFactory::createFromWkt(wkt.c_str(), nullptr, &g), OGRERR_NONE) << wkt;
         feature.SetGeometryDirectly(g);
@@ -148,6 +156,26 @@ TEST(RenderCli, WorstMakesOnePanelPerSite)
     Counts m = svg_counts(svg);
     EXPECT_EQ(m["rect.frame"], 4);
     EXPECT_EQ(m["circle.site-vertex-vertex"], 1) << "the pair at the other end of the gap";
+}
+
+TEST(RenderCli, KeyFieldMatchesFeaturesWhoseFidsDiffer)
+{
+    TempDir dir;
+    const std::string in = dir.path("in.gpkg"), out = dir.path("out.gpkg"), svg = dir.path("k.svg");
+    write_layer(in, {{1, sq(0, 0, 10, 10)}, {2, sq(20, 0, 30, 10)}}, {1, 2});
+    write_layer(out, {{5, "POLYGON((20 0,30 0,33 10,20 10,20 0))"}, {6, sq(0, 0, 10, 10)}}, {2, 1});
+    const RunOutput by_fid = run_trisnap(dir, {"render", in, out, "-o", svg, "--tolerance", "1"});
+    ASSERT_EQ(by_fid.code, 0) << by_fid.err;
+    EXPECT_EQ(svg_counts(svg)["circle.site-collapse"], 2) << "FIDs 1, 2 have no output";
+    const RunOutput by_key = run_trisnap(dir, {"render", in, out, "-o", svg, "--tolerance", "1", "--key", "src"});
+    ASSERT_EQ(by_key.code, 0) << by_key.err;
+    Counts c = svg_counts(svg);
+    EXPECT_EQ(c["circle.site-collapse"], 0);
+    EXPECT_EQ(c["circle.site-drift"], 1);
+    EXPECT_NE(by_key.out.find("worst 3.00 T (fid 2)"), std::string::npos) << by_key.out;
+    const RunOutput bad = run_trisnap(dir, {"render", in, out, "-o", svg, "--key", "nope"});
+    EXPECT_EQ(bad.code, 2);
+    EXPECT_NE(bad.err.find("--key: no field 'nope'; fields: src"), std::string::npos) << bad.err;
 }
 
 TEST(RenderCli, PngHasInkOnFeaturesAndBackgroundElsewhere)

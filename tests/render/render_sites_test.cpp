@@ -29,6 +29,13 @@ Layer layer_of(std::vector<Shape> shapes)
     return layer;
 }
 
+const Layer& out_of(const Shape& shape)
+{
+    static Layer layer;
+    layer = layer_of({shape});
+    return layer;
+}
+
 std::vector<Site> of_kind(const std::vector<Site>& sites, SiteKind kind)
 {
     std::vector<Site> out;
@@ -82,6 +89,25 @@ TEST(RenderSites, DriftSeesAVertexThatWasRemoved)
     EXPECT_DOUBLE_EQ(drift[0].value, 4.0);
     EXPECT_EQ(drift[0].other, (XY{14, 5})) << "the input vertex";
     EXPECT_EQ(drift[0].at, (XY{10, 5})) << "the nearest output point";
+}
+
+TEST(RenderSites, DriftBetweenFarApartFeaturesIsTheirDistance)
+{
+    // Matched by key but a million units apart (another tool's output, wrong keys): the
+    // nearest-edge search must give up widening and scan, not visit ~10^12 empty cells.
+    Shape dense;
+    dense.key = 1;
+    for (int i = 0; i <= 1000; ++i) dense.rings.push_back({{i * 0.001, 0}, {i * 0.001, 0.0005}});
+    dense.polygon = false;
+    for (const auto& r : dense.rings)
+        for (XY p : r) dense.box.add(p);
+    Shape far = dense;
+    for (auto& r : far.rings)
+        for (XY& p : r) p.y += 1e6;
+    far.box = Box{0, 1e6, 1, 1e6 + 0.0005};
+    const auto drift = of_kind(find_sites(layer_of({dense}), &out_of(far), 1.0), SiteKind::drift);
+    ASSERT_EQ(drift.size(), 1u);
+    EXPECT_NEAR(drift[0].value, 1e6, 1e-6);
 }
 
 TEST(RenderSites, ClosePairsCountSharedBoundariesOnce)

@@ -95,3 +95,7 @@ sys.exit(1 if bad else 0)
 PY
 echo "run_smoke: ok, bench/compare table in $out"
 rm -rf "$root/bench/results/compare_smoke"
+
+# Tiling (issue 5): untiled vs tiles on 1 and 2 threads on Andorra, one repetition.
+python3 "$root/bench/tiling" --quick --out "$root/bench/results/tiling_smoke.json" \
+  || { echo "run_smoke: bench/tiling failed" >&2; exit 1; }

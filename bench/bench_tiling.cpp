@@ -1,0 +1,113 @@
+// Tiled snapping (issue 5) on the largest layers of ../shared/data, in process on pre-loaded
+// features (reading and writing are bench_pipeline's business):
+//   Tiling/<layer>/untiled     one triangulation (snap(), as --no-tiles)
+//   Tiling/<layer>/tiles:1     default balanced tiles, 1 thread   -> overhead = this / untiled - 1
+//   Tiling/<layer>/tiles:2     the same on 2 threads              -> speed-up = tiles:1 / tiles:2
+// Counters: tiles, seam merges, halo growths, and `identical` = share of features equal to the
+// untiled output (tile invariance), measured once per layer outside the timing.
+// bench/tiling runs this with repetitions and writes bench/results/tiling.json (medians).
+#include "core/snap.hpp"
+#include "core/wkt.hpp"
+#include "ogr_layer_reader.hpp"
+#include "stitch/tiled_snap.hpp"
+#include "test_data.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+#include <string>
+
+namespace trisnap {
+namespace {
+
+struct Layer {
+    const char* name;
+    const char* file;
+    const char* layer;
+    double tolerance;
+};
+
+constexpr Layer layers[] = {
+    {"ne_10m_land", "natural_earth/natural_earth.gpkg", "ne_10m_land", 1e-5},
+    {"jakarta_buildings", "osm_buildings_mvt_boston_jakarta/jakarta_buildings_z13.gpkg", "building", 1e-6},
+    {"monaco_multipolygons", "osm_monaco_osrm_2020/monaco_osrm_2020.gpkg", "multipolygons", 1e-6},
+    {"andorra", "snapoly_andorra/andorra.gpkg", "andorra", 1e-6},
+};
+
+struct Loaded {
+    std::vector<Feature> features;
+    double identical = -1; ///< share of features equal to the untiled output (once)
+};
+
+Loaded* load(const Layer& l)
+{
+    static std::map<std::string, std::unique_ptr<Loaded>> cache;
+    auto& slot = cache[l.name];
+    if (!slot) {
+        slot = std::make_unique<Loaded>();
+        if (auto path = shared_data(l.file)) slot->features = read_ogr_layer(*path, l.layer).features;
+    }
+    return slot.get();
+}
+
+double identical_share(Loaded& d, const SnapOptions& o)
+{
+    if (d.identical >= 0) return d.identical;
+    const SnapResult a = snap(d.features, o);
+    const stitch::TiledResult b = stitch::snap_tiled(d.features, o, stitch::TilingOptions{});
+    std::size_t same = 0;
+    for (std::size_t i = 0; i < a.features.size(); ++i)
+        same += to_wkt(a.features[i].geometry) == to_wkt(b.result.features[i].geometry);
+    d.identical = static_cast<double>(same) / static_cast<double>(a.features.size());
+    return d.identical;
+}
+
+void BM_Tiling(benchmark::State& state, Layer l, int threads)
+{
+    Loaded* d = load(l);
+    if (d->features.empty()) {
+        state.SkipWithError((std::string("data set absent: ") + l.file).c_str());
+        return;
+    }
+    SnapOptions o;
+    o.tolerance = l.tolerance;
+    stitch::TilingOptions tiling;
+    tiling.threads = threads;
+    stitch::StitchStats last;
+    for (auto _ : state) {
+        if (threads == 0) {
+            SnapResult r = snap(d->features, o);
+            benchmark::DoNotOptimize(r.features.data());
+        } else {
+            stitch::TiledResult r = stitch::snap_tiled(d->features, o, tiling);
+            last = r.stitch;
+            benchmark::DoNotOptimize(r.result.features.data());
+        }
+    }
+    state.counters["features"] = static_cast<double>(d->features.size());
+    if (threads > 0) {
+        state.counters["tiles"] = static_cast<double>(last.tiles);
+        state.counters["seam_merges"] = static_cast<double>(last.seam_merges);
+        state.counters["halo_growths"] = static_cast<double>(last.halo_growths);
+        state.counters["identical"] = identical_share(*d, o);
+    }
+}
+
+int register_all()
+{
+    for (const Layer& l : layers) {
+        const std::string base = std::string("Tiling/") + l.name;
+        benchmark::RegisterBenchmark((base + "/untiled").c_str(), BM_Tiling, l, 0)->Unit(benchmark::kMillisecond)->UseRealTime();
+        benchmark::RegisterBenchmark((base + "/tiles:1").c_str(), BM_Tiling, l, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
+        benchmark::RegisterBenchmark((base + "/tiles:2").c_str(), BM_Tiling, l, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
+    }
+    return 0;
+}
+
+const int registered = register_all();
+
+} // namespace
+} // namespace trisnap
+
+BENCHMARK_MAIN();

@@ -61,7 +61,7 @@ std::string times_t(double value, std::optional<double> t)
 std::string site_title(const Site& s, std::optional<double> t)
 {
     switch (s.kind) {
-    case SiteKind::collapse: return "collapse: lost, width " + times_t(s.value, t);
+    case SiteKind::collapse: return "collapse: lost, " + s.name + " " + times_t(s.value, t);
     case SiteKind::drift: return "drift " + times_t(s.value, t) + (s.defect ? " (> 2T)" : "");
     case SiteKind::vertex_edge: return "vertex-edge " + times_t(s.value, t) + (s.defect ? " (< T/2)" : "");
     case SiteKind::vertex_vertex: return "vertex-vertex " + times_t(s.value, t) + (s.defect ? " (< T)" : "");

@@ -82,14 +82,16 @@ View::View(const Box& world, const Box& px, double x_stretch) : m_px(px)
 
 double x_stretch_for(const CrsInfo& crs, const Box& world)
 {
-    if (crs.kind != CrsInfo::Kind::geographic || world.height() > 60) return 1.0;
+    // Coordinates beyond ±90 in y are not latitudes, whatever the CRS says.
+    if (crs.kind != CrsInfo::Kind::geographic || world.height() > 60 || world.ymin < -90 || world.ymax > 90) return 1.0;
     const double lat = std::clamp(world.centre().y, -80.0, 80.0);
     return std::cos(lat * std::numbers::pi / 180.0);
 }
 
 double metres(const CrsInfo& crs, double units, double lat)
 {
-    if (crs.kind == CrsInfo::Kind::geographic) return units * k_metres_per_degree * std::cos(lat * std::numbers::pi / 180.0);
+    if (crs.kind == CrsInfo::Kind::geographic)
+        return std::abs(lat) <= 90 ? units * k_metres_per_degree * std::cos(lat * std::numbers::pi / 180.0) : 0.0;
     if (crs.kind == CrsInfo::Kind::projected) return units * crs.metres_per_unit;
     return 0;
 }

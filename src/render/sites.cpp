@@ -91,6 +91,7 @@ Site collapse_site(const Shape& in)
     site.at = site.other = in.box.centre();
     site.fid = in.key;
     site.value = mean_width(in);
+    site.name = in.polygon ? "width" : "length";
     site.extent = in.box;
     site.defect = true;
     return site;

@@ -25,7 +25,7 @@ struct Site {
     std::int64_t fid = -1; ///< feature of `at`
     std::int64_t fid2 = -1;///< feature of `other` (pairs)
     int code = 0;          ///< problem code
-    std::string name;      ///< problem name
+    std::string name;      ///< problem name; collapse: "width" or "length" (what `value` is)
     Box extent;            ///< collapse: the lost feature's box
     bool defect = false;   ///< breaks the contract at T: v-v < T, v-e < T/2, drift > 2T, any collapse
 };

@@ -67,6 +67,8 @@ TEST(RenderView, GeographicLayersAreDrawnWithTheirProportions)
     EXPECT_NEAR(x_stretch_for(geographic, Box{1, 59, 3, 61}), 0.5, 1e-12);
     EXPECT_EQ(x_stretch_for(geographic, Box{-180, -90, 180, 90}), 1.0) << "the whole world stays plate carree";
     EXPECT_EQ(x_stretch_for(CrsInfo{}, Box{1, 59, 3, 61}), 1.0);
+    EXPECT_EQ(x_stretch_for(geographic, Box{240, 95, 250, 100}), 1.0) << "y beyond 90 is no latitude";
+    EXPECT_EQ(metres(geographic, 1.0, 120), 0.0);
     EXPECT_NEAR(metres(geographic, 1e-5, 0), 1.11319, 1e-4);
     EXPECT_DOUBLE_EQ(metres(CrsInfo{CrsInfo::Kind::projected, 0.3048, "ft"}, 10, 0), 3.048);
 }

@@ -54,6 +54,7 @@ TEST(RenderSites, CollapseIsAnInputFeatureWithoutOutput)
     EXPECT_TRUE(collapses[0].defect);
     EXPECT_DOUBLE_EQ(collapses[0].at.x, 20.2);
     EXPECT_NEAR(collapses[0].value, 2 * 0.08 / 1.2, 1e-12); // mean width 2A/P
+    EXPECT_EQ(collapses[0].name, "width");
     EXPECT_TRUE(of_kind(sites, SiteKind::drift).empty()) << "an unchanged feature has no drift";
 }
 

@@ -38,7 +38,9 @@ TEST(TilePlan, EveryPointHasExactlyOneOwnerAndQueriesAgree)
     }
     // A split line belongs to the right/upper tile (half-open cores).
     const Region& c = plan.core(plan.leaf_of(150, 150));
-    if (std::isfinite(c.xmin)) EXPECT_EQ(plan.leaf_of(c.xmin, 150), plan.leaf_of(150, 150));
+    if (std::isfinite(c.xmin)) {
+        EXPECT_EQ(plan.leaf_of(c.xmin, 150), plan.leaf_of(150, 150));
+    }
 }
 
 TEST(TilePlan, BalancedTilesRespectTheVertexBudget)
@@ -68,7 +70,9 @@ TEST(TilePlan, RegularGridIsAnchoredAtMultiplesOfTheSize)
     for (std::size_t k = 0; k < plan.size(); ++k) {
         const Region& r = plan.core(k);
         for (double v : {r.xmin, r.xmax, r.ymin, r.ymax})
-            if (std::isfinite(v)) EXPECT_EQ(std::fmod(v, 25.0), 0.0);
+            if (std::isfinite(v)) {
+                EXPECT_EQ(std::fmod(v, 25.0), 0.0);
+            }
     }
     o.tile_size = 1e-4;
     EXPECT_THROW(tiling::make_plan(features, o), std::invalid_argument);

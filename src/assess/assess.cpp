@@ -68,11 +68,11 @@ AssessReport assess_layers(OGRLayer& original, OGRLayer& snapped, const AssessOp
     const std::size_t k = options.max_examples;
     const assess::Matching match = assess::measure_matching(a, b, r, k);
     phase("matching");
-    assess::measure_validity(a, b, r, k);
+    const std::vector<std::uint8_t> invalid = assess::measure_validity(a, b, r, k);
     phase("validity");
     assess::measure_separations(b, r, k);
     phase("separations");
-    assess::measure_overlaps(b, r, k);
+    assess::measure_overlaps(b, invalid, r, k);
     phase("overlaps");
     assess::measure_gaps(a, b, match, options.tolerance, r, k);
     phase("gaps");

@@ -1,19 +1,35 @@
 // Matching features by key, and what matching says: missing, extra, attribute mismatches.
 #include "assess/measures.hpp"
 
-#include <unordered_map>
+#include <algorithm>
 
 namespace trisnap::assess {
 namespace {
 
-/// Key -> feature indexes in layer order: the k-th input feature with a key matches the k-th
-/// output feature with that key (FIDs are unique, so this only matters for --key).
-std::unordered_map<std::string, std::vector<std::uint32_t>> index_keys(const LayerData& d)
+/// Feature indexes ordered by key, layer order among equal keys.
+std::vector<std::uint32_t> order_by_key(const LayerData& d)
 {
-    std::unordered_map<std::string, std::vector<std::uint32_t>> keys;
-    keys.reserve(d.features.size());
-    for (std::uint32_t i = 0; i < d.features.size(); ++i) keys[d.features[i].key].push_back(i);
-    return keys;
+    std::vector<std::uint32_t> order(d.features.size());
+    for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::uint32_t x, std::uint32_t y) { return d.features[x].key < d.features[y].key; });
+    return order;
+}
+
+/// The k-th input feature with a key matches the k-th output feature with that key (FIDs are
+/// unique, so this only matters for --key). A merge of the two key orders: no hash maps.
+Matching match_keys(const LayerData& a, const LayerData& b)
+{
+    Matching match(a.features.size(), -1);
+    const std::vector<std::uint32_t> oa = order_by_key(a), ob = order_by_key(b);
+    for (std::size_t ia = 0, ib = 0; ia < oa.size() && ib < ob.size();) {
+        const std::string& ka = a.features[oa[ia]].key;
+        const std::string& kb = b.features[ob[ib]].key;
+        if (ka < kb) ++ia;
+        else if (kb < ka) ++ib;
+        else match[oa[ia++]] = ob[ib++];
+    }
+    return match;
 }
 
 std::string shown(const std::string& value) { return value == "\x01null" ? "null" : "'" + value + "'"; }
@@ -34,17 +50,12 @@ void compare_values(const LayerData& a, const Feature& fa, const Feature& fb, As
 
 Matching measure_matching(const LayerData& a, const LayerData& b, AssessReport& r, std::size_t k)
 {
-    Matching match(a.features.size(), -1);
+    const Matching match = match_keys(a, b);
     std::vector<bool> matched_b(b.features.size(), false);
-    const auto keys_b = index_keys(b);
-    std::unordered_map<std::string, std::size_t> used;
     for (std::size_t i = 0; i < a.features.size(); ++i) {
         const Feature& fa = a.features[i];
-        const auto it = keys_b.find(fa.key);
-        std::size_t& n = used[fa.key];
-        if (it != keys_b.end() && n < it->second.size()) {
-            const std::uint32_t j = it->second[n++];
-            match[i] = j;
+        if (match[i] >= 0) {
+            const auto j = static_cast<std::size_t>(match[i]);
             matched_b[j] = true;
             ++r.n_matched;
             compare_values(a, fa, b.features[j], r);

@@ -13,9 +13,10 @@ namespace trisnap::assess {
 using Matching = std::vector<std::int64_t>;
 
 Matching measure_matching(const LayerData& a, const LayerData& b, AssessReport& report, std::size_t k);
-void measure_validity(const LayerData& a, const LayerData& b, AssessReport& report, std::size_t k);
+/// Returns, per output feature, 1 when it is an invalid polygon.
+std::vector<std::uint8_t> measure_validity(const LayerData& a, const LayerData& b, AssessReport& report, std::size_t k);
 void measure_separations(const LayerData& b, AssessReport& report, std::size_t k);
-void measure_overlaps(const LayerData& b, AssessReport& report, std::size_t k);
+void measure_overlaps(const LayerData& b, const std::vector<std::uint8_t>& invalid, AssessReport& report, std::size_t k);
 void measure_gaps(const LayerData& a, const LayerData& b, const Matching& match, double tolerance,
                   AssessReport& report, std::size_t k);
 void measure_hausdorff(const LayerData& a, const LayerData& b, const Matching& match, double tolerance,

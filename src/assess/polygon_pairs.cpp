@@ -2,6 +2,7 @@
 // Candidate pairs come from an STR tree over feature boxes; each pair then looks only at the
 // segments inside the intersection of the two boxes (a shared boundary or a crossing lies there).
 #include "assess/measures.hpp"
+#include "assess/overlap_test.hpp"
 #include "assess/str_tree.hpp"
 
 #include <ogr_api.h>
@@ -72,16 +73,6 @@ double shared_length(const LayerData& d, const Feature& fa, const Feature& fb, P
     return total;
 }
 
-/// Do the boundaries of two features meet at all (any contact, shared vertices included)?
-bool boundaries_meet(const LayerData& d, const Feature& fa, const Feature& fb)
-{
-    const Box window = fa.box.intersection(fb.box);
-    const auto sa = window_segments(d, fa, window), sb = window_segments(d, fb, window);
-    return any_near_pair(sa, sb, [](const Seg& x, const Seg& y) {
-        return segment_contact(x.a, x.b, y.a, y.b) != SegmentContact::none;
-    });
-}
-
 /// Area of the polygonal parts of a geometry (an intersection may hold lines and points too).
 double surface_area(const OGRGeometry& g)
 {
@@ -111,12 +102,14 @@ double intersection_area(const LayerData& d, const Feature& fa, const Feature& f
     return area;
 }
 
-double overlap_of(const LayerData& d, const Feature& fa, const Feature& fb, Pt* where)
+/// The exact boundary test first (valid polygons only), GEOS's overlay for the area or when it
+/// cannot decide.
+double overlap_of(const LayerData& d, const std::vector<std::int8_t>& interior_left, const std::vector<std::uint8_t>& invalid,
+                  std::uint32_t i, std::uint32_t j, Pt* where)
 {
-    if (!boundaries_meet(d, fa, fb)) {
-        // Disjoint boundaries: the interiors meet only if one polygon holds the other's vertex.
-        if (!d.strictly_inside(fb, d.anchor(fa)) && !d.strictly_inside(fa, d.anchor(fb))) return 0;
-    }
+    const Feature& fa = d.features[i];
+    const Feature& fb = d.features[j];
+    if (!invalid[i] && !invalid[j] && interiors_meet(d, interior_left, fa, fb) == OverlapVerdict::disjoint) return 0;
     return intersection_area(d, fa, fb, where);
 }
 
@@ -153,13 +146,14 @@ void for_candidate_pairs(const LayerData& d, const PolygonIndex& index, bool pos
 
 } // namespace
 
-void measure_overlaps(const LayerData& b, AssessReport& r, std::size_t k)
+void measure_overlaps(const LayerData& b, const std::vector<std::uint8_t>& invalid, AssessReport& r, std::size_t k)
 {
     const PolygonIndex index = index_polygons(b);
+    const std::vector<std::int8_t> interior_left = interior_left_of_parts(b);
     tbb::combinable<std::vector<AssessExample>> found;
     for_candidate_pairs(b, index, true, [&](std::uint32_t i, std::uint32_t j) {
         Pt where;
-        const double area = overlap_of(b, b.features[i], b.features[j], &where);
+        const double area = overlap_of(b, interior_left, invalid, i, j, &where);
         if (area <= 0) return;
         const std::int64_t fa = std::min(b.features[i].fid, b.features[j].fid);
         const std::int64_t fb = std::max(b.features[i].fid, b.features[j].fid);

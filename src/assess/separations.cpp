@@ -77,56 +77,100 @@ void push_bounded(std::vector<AssessExample>& v, AssessExample e, std::size_t k,
     if (v.size() >= 4 * k + 64) keep_first(v, k, less);
 }
 
+/// A pair found by a nearest query: (distance, vertex, other vertex or segment).
+struct Candidate {
+    double d;
+    std::uint32_t i, j;
+    bool operator<(const Candidate& o) const { return d < o.d || (d == o.d && (i < o.i || (i == o.i && j < o.j))); }
+    bool operator==(const Candidate& o) const { return i == o.i && j == o.j; }
+};
+
+/// The k smallest candidates one thread has seen, and the distance a query must beat to matter.
+/// A thread's k-th best is never below the final k-th best, so pruning queries with it keeps
+/// every candidate of the final list: the result does not depend on threads.
+class TopK {
+public:
+    explicit TopK(std::size_t k = 20) : m_k(k) {}
+    double bound() const { return m_bound == k_inf ? k_inf : std::nextafter(m_bound, k_inf); }
+    void add(Candidate c)
+    {
+        m_items.push_back(c);
+        if (m_items.size() >= 2 * m_k + 32) trim();
+    }
+    void trim()
+    {
+        std::sort(m_items.begin(), m_items.end());
+        m_items.erase(std::unique(m_items.begin(), m_items.end()), m_items.end());
+        if (m_items.size() > m_k) m_items.resize(m_k);
+        if (m_items.size() == m_k) m_bound = m_items.back().d;
+    }
+    std::vector<Candidate> m_items;
+
+private:
+    std::size_t m_k;
+    double m_bound = k_inf;
+};
+
+std::vector<Candidate> merge(tbb::combinable<TopK>& per_thread, std::size_t k)
+{
+    TopK all(k);
+    per_thread.combine_each([&](TopK& t) {
+        for (const Candidate& c : t.m_items) all.add(c);
+    });
+    all.trim();
+    return all.m_items;
+}
+
+/// Per distinct vertex, its nearest other vertex; the k closest such pairs (the first is the
+/// exact minimum over all pairs).
 void vertex_vertex(const LayerData& d, const std::vector<Owned>& v, AssessReport& r, std::size_t k)
 {
     std::vector<Box> boxes(v.size());
     for (std::size_t i = 0; i < v.size(); ++i) boxes[i].add(v[i].p);
     const StrTree tree(std::move(boxes));
-    std::vector<std::uint32_t> nearest(v.size(), UINT32_MAX);
-    std::vector<double> dist(v.size(), k_inf);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, v.size(), 1024), [&](const auto& range) {
-        for (std::size_t i = range.begin(); i < range.end(); ++i) {
+    tbb::combinable<TopK> found([k] { return TopK(k); });
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(v.size()), 1024), [&](const auto& range) {
+        TopK& mine = found.local();
+        for (std::uint32_t i = range.begin(); i < range.end(); ++i) {
             const Pt p = v[i].p;
-            std::tie(nearest[i], dist[i]) =
-                tree.nearest(p, [&](std::uint32_t id) { return id == i ? k_inf : distance(p, v[id].p); });
+            const auto [j, dist] = tree.nearest(
+                p, [&](std::uint32_t id) { return id == i ? k_inf : distance(p, v[id].p); }, mine.bound());
+            if (j != UINT32_MAX) mine.add({dist, std::min(i, j), std::max(i, j)});
         }
     });
-    std::vector<AssessExample> all;
-    for (std::size_t i = 0; i < v.size(); ++i) {
-        const std::uint32_t j = nearest[i];
-        if (j == UINT32_MAX || (j < i && nearest[j] == i)) continue; // a mutual pair, reported from j
-        AssessExample e{d.features[v[i].feature].fid, d.features[v[j].feature].fid, v[i].p.x, v[i].p.y,
-                        v[j].p.x, v[j].p.y, dist[i], "", {}};
-        push_bounded(all, std::move(e), k, by_value);
-    }
-    keep_first(all, k, by_value);
-    if (!all.empty()) r.min_vertex_vertex = all.front().value;
-    r.closest_vertex_vertex = std::move(all);
+    for (const Candidate& c : merge(found, k))
+        r.closest_vertex_vertex.push_back({d.features[v[c.i].feature].fid, d.features[v[c.j].feature].fid, v[c.i].p.x,
+                                           v[c.i].p.y, v[c.j].p.x, v[c.j].p.y, c.d, "", {}});
+    if (!r.closest_vertex_vertex.empty()) r.min_vertex_vertex = r.closest_vertex_vertex.front().value;
 }
 
+/// Per distinct vertex, its nearest segment that does not end at it; the k closest.
 void vertex_edge(const LayerData& d, const std::vector<Owned>& v, const std::vector<Segment>& s, const StrTree& tree,
                  AssessReport& r, std::size_t k)
 {
-    Examples found;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, v.size(), 1024), [&](const auto& range) {
-        auto& mine = found.local();
-        for (std::size_t i = range.begin(); i < range.end(); ++i) {
+    tbb::combinable<TopK> found([k] { return TopK(k); });
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(v.size()), 1024), [&](const auto& range) {
+        TopK& mine = found.local();
+        for (std::uint32_t i = range.begin(); i < range.end(); ++i) {
             const Pt p = v[i].p;
-            Pt closest;
-            const auto [j, dist] = tree.nearest(p, [&](std::uint32_t id) {
-                return s[id].a == p || s[id].b == p ? k_inf : point_segment_distance(p, s[id].a, s[id].b);
-            });
-            if (j == UINT32_MAX) continue;
-            point_segment_distance(p, s[j].a, s[j].b, &closest);
-            AssessExample e{d.features[v[i].feature].fid, d.features[s[j].feature].fid, p.x, p.y,
-                            closest.x, closest.y, dist, "", {s[j].a.x, s[j].a.y, s[j].b.x, s[j].b.y}};
-            push_bounded(mine, std::move(e), k, by_value);
+            const auto [j, dist] = tree.nearest(
+                p,
+                [&](std::uint32_t id) {
+                    return s[id].a == p || s[id].b == p ? k_inf : point_segment_distance(p, s[id].a, s[id].b);
+                },
+                mine.bound());
+            if (j != UINT32_MAX) mine.add({dist, i, j});
         }
     });
-    std::vector<AssessExample> all = gather(found);
-    keep_first(all, k, by_value);
-    if (!all.empty()) r.min_vertex_edge = all.front().value;
-    r.closest_vertex_edge = std::move(all);
+    for (const Candidate& c : merge(found, k)) {
+        const Pt p = v[c.i].p;
+        const Segment& e = s[c.j];
+        Pt closest;
+        point_segment_distance(p, e.a, e.b, &closest);
+        r.closest_vertex_edge.push_back({d.features[v[c.i].feature].fid, d.features[e.feature].fid, p.x, p.y, closest.x,
+                                         closest.y, c.d, "", {e.a.x, e.a.y, e.b.x, e.b.y}});
+    }
+    if (!r.closest_vertex_edge.empty()) r.min_vertex_edge = r.closest_vertex_edge.front().value;
 }
 
 void crossings(const LayerData& d, const std::vector<Segment>& s, const StrTree& tree, AssessReport& r, std::size_t k)

@@ -45,7 +45,7 @@ bool check_valid(const LayerData& d, const Feature& f, AssessExample& example)
 
 } // namespace
 
-void measure_validity(const LayerData& a, const LayerData& b, AssessReport& r, std::size_t k)
+std::vector<std::uint8_t> measure_validity(const LayerData& a, const LayerData& b, AssessReport& r, std::size_t k)
 {
     for (const Feature& f : a.features) r.area_in += a.area(f);
     for (const Feature& f : b.features) {
@@ -55,18 +55,22 @@ void measure_validity(const LayerData& a, const LayerData& b, AssessReport& r, s
         r.empty.push_back({f.fid, -1, 0, 0, 0, 0, 0, "", {}});
     }
     r.area_change = r.area_in > 0 ? (r.area_out - r.area_in) / r.area_in : 0;
+    std::vector<std::uint8_t> invalid(b.features.size(), 0);
     tbb::combinable<std::vector<AssessExample>> found;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, b.features.size(), 64), [&](const auto& range) {
         for (std::size_t i = range.begin(); i < range.end(); ++i) {
             if (b.features[i].kind != FeatureKind::polygon) continue;
             AssessExample e;
-            if (!check_valid(b, b.features[i], e)) found.local().push_back(std::move(e));
+            if (check_valid(b, b.features[i], e)) continue;
+            invalid[i] = 1;
+            found.local().push_back(std::move(e));
         }
     });
     found.combine_each([&](const auto& v) { r.invalid.insert(r.invalid.end(), v.begin(), v.end()); });
     r.n_invalid = static_cast<std::int64_t>(r.invalid.size());
     keep_first(r.invalid, k, by_fids);
     keep_first(r.empty, k, by_fids);
+    return invalid;
 }
 
 } // namespace trisnap::assess

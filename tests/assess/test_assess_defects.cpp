@@ -68,6 +68,28 @@ TEST(AssessDefects, NestedPolygonWithoutBoundaryContactOverlaps)
     EXPECT_EQ(assess_items(holed, holed, 0.1).n_overlaps, 0);
 }
 
+TEST(AssessDefects, OverlapsThroughSharedEdgesAndVertices)
+{
+    // Boundaries meeting only at common vertices and identical edges: decided without GEOS.
+    const std::vector<Item> triangle{{1, square(0, 0, 2)}, {2, "POLYGON((0 0,2 0,2 2,0 0))"}};
+    AssessReport r = assess_items(triangle, triangle, 0.1);
+    EXPECT_EQ(r.n_overlaps, 1);
+    EXPECT_NEAR(r.overlap_area, 2.0, k_eps);
+    EXPECT_EQ(r.n_crossings, 0);
+    const std::vector<Item> twice{{1, square(0, 0, 2)}, {2, "POLYGON((0 0,0 2,2 2,2 0,0 0))"}}; // other orientation
+    r = assess_items(twice, twice, 0.1);
+    EXPECT_EQ(r.n_overlaps, 1);
+    EXPECT_NEAR(r.overlap_area, 4.0, k_eps);
+    // A polygon filling another's hole exactly shares every hole edge, on the other side.
+    const std::vector<Item> filled{{1, "POLYGON((0 0,4 0,4 4,0 4,0 0),(1 1,1 3,3 3,3 1,1 1))"}, {2, square(1, 1, 2)}};
+    EXPECT_EQ(assess_items(filled, filled, 0.1).n_overlaps, 0);
+    // Diagonal through a shared corner: the triangle's edge inside the square decides.
+    const std::vector<Item> inside{{1, square(0, 0, 2)}, {2, "POLYGON((0 0,2 2,3 0,0 0))"}};
+    r = assess_items(inside, inside, 0.1);
+    EXPECT_EQ(r.n_overlaps, 1);
+    EXPECT_NEAR(r.overlap_area, 2.0, k_eps);
+}
+
 TEST(AssessDefects, LostSharedBoundaryIsANewGap)
 {
     const std::vector<Item> in{{1, square(0, 0, 1)}, {2, square(1, 0, 1)}};

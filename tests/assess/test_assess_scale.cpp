@@ -2,7 +2,10 @@
 // defects. No timing assertion (speed lives in benchmarks); the counts must be exact.
 #include "assess_fixture.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
 
 namespace trisnap::test {
 namespace {
@@ -38,6 +41,49 @@ TEST(AssessScale, HundredThousandPolygonGrid)
     EXPECT_DOUBLE_EQ(*r.min_vertex_vertex, 0.5);
     EXPECT_GT(r.n_crossings, 0); // collinear overlaps along the shifted square's top and bottom
     EXPECT_NEAR(r.area_change, -1.0 / (n * n), 1e-12);
+}
+
+/// A jittered grid: interior corners moved by up to 0.3, so boxes of neighbours overlap.
+std::vector<Item> jittered_grid(int n, std::uint32_t seed)
+{
+    std::vector<double> dx((n + 1) * (n + 1)), dy((n + 1) * (n + 1));
+    for (std::size_t i = 0; i < dx.size(); ++i) {
+        seed = seed * 1664525u + 1013904223u;
+        dx[i] = ((seed >> 8) % 1000) / 1000.0 * 0.6 - 0.3;
+        seed = seed * 1664525u + 1013904223u;
+        dy[i] = ((seed >> 8) % 1000) / 1000.0 * 0.6 - 0.3;
+    }
+    const auto corner = [&](int i, int j) {
+        const bool edge = i == 0 || j == 0 || i == n || j == n;
+        const std::size_t k = static_cast<std::size_t>(j * (n + 1) + i);
+        return fmt::format("{} {}", i + (edge ? 0 : dx[k]), j + (edge ? 0 : dy[k]));
+    };
+    std::vector<Item> items;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i)
+            items.push_back({j * n + i + 1, fmt::format("POLYGON(({},{},{},{},{}))", corner(i, j), corner(i + 1, j),
+                                                        corner(i + 1, j + 1), corner(i, j + 1), corner(i, j))});
+    return items;
+}
+
+TEST(AssessScale, SameReportOnOneThreadAndMany)
+{
+    // Every third output feature comes from a grid jittered otherwise: overlaps, crossings, gaps.
+    const std::vector<Item> in = jittered_grid(60, 1), other = jittered_grid(60, 2);
+    std::vector<Item> out = in;
+    for (std::size_t i = 0; i < out.size(); i += 3) out[i] = other[i];
+    const auto report = [&](int threads) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+        nlohmann::json j = nlohmann::json::parse(assess_report_json(assess_items(in, out, 0.05)));
+        j.erase("seconds");
+        j.erase("timings");
+        return j;
+    };
+    const nlohmann::json one = report(1), many = report(4);
+    EXPECT_GT(one["n_overlaps"].get<int>(), 0);
+    EXPECT_GT(one["n_crossings"].get<int>(), 0);
+    EXPECT_GT(one["gaps_new"].get<int>(), 0);
+    EXPECT_EQ(one.dump(), many.dump());
 }
 
 } // namespace

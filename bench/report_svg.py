@@ -4,8 +4,8 @@ import math
 import os
 from xml.sax.saxutils import escape
 
-W, H = 720, 440
-LEFT, RIGHT, TOP, BOTTOM = 80, 170, 40, 70
+W, H = 900, 500
+LEFT, RIGHT, TOP, BOTTOM = 80, 170, 40, 110
 COLORS = {"trisnap": "#1b7837", "isr": "#c51b7d", "sr": "#e08214", "geos": "#2166ac", "input": "#777777"}
 LABELS = {"trisnap": "trisnap", "isr": "CGAL ISR", "sr": "CGAL SR", "geos": "GEOS setPrecision", "input": "input"}
 MARKERS = ["circle", "square", "triangle", "diamond"]
@@ -68,7 +68,7 @@ def frame(title, xlabel, ylabel, xaxis, yaxis, xticks=None):
         y = yaxis(v)
         out.append(f'<line x1="{LEFT}" x2="{W - RIGHT}" y1="{y:.1f}" y2="{y:.1f}" stroke="#ddd"/>')
         out.append(text(LEFT - 6, y + 4, tick_label(v), 11, "end"))
-    for v, name in (xticks or [(v, tick_label(v)) for v in xaxis.ticks()]):
+    for v, name in (xticks if xticks is not None else [(v, tick_label(v)) for v in xaxis.ticks()]):
         x = xaxis(v)
         out.append(f'<line x1="{x:.1f}" x2="{x:.1f}" y1="{TOP}" y2="{H - BOTTOM}" stroke="#eee"/>')
         out.append(text(x, H - BOTTOM + 16, name, 11))
@@ -153,10 +153,9 @@ def category_plot(results, field, title, ylabel, refs, path, cap):
     top = min(cap, max(max(v for _, _, v in values), max(refs or [0])) * 1.1 or 1)
     xa = Axis(-0.5, len(cats) - 0.5, LEFT, W - RIGHT, False)
     ya = Axis(0, top, H - BOTTOM, TOP, False)
-    out = frame(title, "data set, tolerance", ylabel, xa, ya, xticks=[(i, "") for i in range(len(cats))])
-    for i, (name, lab) in enumerate(cats):
-        out.append(text(xa(i), H - BOTTOM + 14, name[:12], 10))
-        out.append(text(xa(i), H - BOTTOM + 27, lab, 10))
+    out = frame(title, "", ylabel, xa, ya, xticks=[])
+    for i, (name, lab) in enumerate(cats):  # slanted: 18 categories do not fit side by side
+        out.append(text(xa(i) + 4, H - BOTTOM + 12, f"{name} {lab}", 10, "end", rotate=-35))
     for ref in refs:
         out.append(f'<line x1="{LEFT}" x2="{W - RIGHT}" y1="{ya(ref):.1f}" y2="{ya(ref):.1f}" stroke="#000" stroke-dasharray="5,4"/>')
         out.append(text(W - RIGHT - 4, ya(ref) - 4, f"{ref:g}", 10, "end"))

@@ -1,5 +1,7 @@
 #include "stitch/assemble.hpp"
 
+#include "tiling/tile_input.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -27,16 +29,6 @@ double signed_area(const std::vector<Coord>& ring)
         a += p.x * q.y - q.x * p.y;
     }
     return 0.5 * a;
-}
-
-bool point_in_ring(const std::vector<Coord>& ring, double x, double y)
-{
-    bool in = false;
-    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
-        const Coord &a = ring[i], &b = ring[j];
-        if ((a.y > y) != (b.y > y) && x < (b.x - a.x) * (y - a.y) / (b.y - a.y) + a.x) in = !in;
-    }
-    return in;
 }
 
 Path close_canonical(std::vector<Coord> ring)
@@ -158,7 +150,7 @@ Geometry assemble_polygons(std::vector<Edge> edges, bool has_z)
                 bool decided = false, inside = false;
                 for (const Coord& p : hole.pts) {
                     if (std::binary_search(sorted.begin(), sorted.end(), p, coord_less)) continue;
-                    inside = point_in_ring(sh.pts, p.x, p.y), decided = true;
+                    inside = tiling::point_in_ring(sh.pts, p.x, p.y), decided = true;
                     break;
                 }
                 if (!decided || !inside) continue;

@@ -19,16 +19,6 @@ double sweep(const Coord& c, const Coord& p, const Coord& q)
     return std::atan2(cross(ax, ay, bx, by), ax * bx + ay * by);
 }
 
-bool point_in_ring(const std::vector<Coord>& ring, double x, double y)
-{
-    bool in = false;
-    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
-        const Coord &a = ring[i], &b = ring[j];
-        if ((a.y > y) != (b.y > y) && x < (b.x - a.x) * (y - a.y) / (b.y - a.y) + a.x) in = !in;
-    }
-    return in;
-}
-
 class RingCutter {
 public:
     RingCutter(const Box& r, const Box& frame)
@@ -124,6 +114,16 @@ private:
 };
 
 } // namespace
+
+bool point_in_ring(const std::vector<Coord>& ring, double x, double y)
+{
+    bool in = false;
+    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+        const Coord &a = ring[i], &b = ring[j];
+        if ((a.y > y) != (b.y > y) && x < (b.x - a.x) * (y - a.y) / (b.y - a.y) + a.x) in = !in;
+    }
+    return in;
+}
 
 bool segment_meets_box(const Coord& p, const Coord& q, const Box& b)
 {

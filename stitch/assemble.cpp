@@ -165,7 +165,7 @@ Geometry assemble_polygons(std::vector<Edge> edges, bool has_z)
     return g;
 }
 
-Geometry assemble_lines(std::vector<Edge> edges, bool has_z)
+Geometry assemble_lines(std::vector<Edge> edges, const std::vector<Coord>& part_starts, bool has_z)
 {
     Geometry g;
     g.has_z = has_z;
@@ -179,18 +179,33 @@ Geometry assemble_lines(std::vector<Edge> edges, bool has_z)
             if (!used[static_cast<std::size_t>(it - edges.begin())]) return static_cast<std::size_t>(it - edges.begin());
         return edges.size();
     };
-    auto walk = [&](std::size_t k) {
+    auto trail = [&](std::size_t k) {
         Path path{edges[k].a};
         for (; k < edges.size(); k = take(path.back())) {
             used[k] = true;
             path.push_back(edges[k].b);
         }
-        g.lines.push_back(std::move(path));
+        return path;
     };
+    auto walk = [&](std::size_t k) { g.lines.push_back(trail(k)); };
+    // A closed trail that starts on a line already traced is a loop the walk stepped past
+    // (a line through one vertex twice): splice it in there rather than make a part of it.
+    auto splice = [&](Path loop) {
+        if (loop.front() == loop.back())
+            for (Path& line : g.lines)
+                for (std::size_t i = 0; i < line.size(); ++i)
+                    if (line[i] == loop.front()) {
+                        line.insert(line.begin() + static_cast<std::ptrdiff_t>(i) + 1, loop.begin() + 1, loop.end());
+                        return;
+                    }
+        g.lines.push_back(std::move(loop));
+    };
+    for (const Coord& s : part_starts)
+        if (std::size_t k = take(s); k < edges.size()) walk(k);
     for (std::size_t k = 0; k < edges.size(); ++k)
         if (!used[k] && balance[{edges[k].a.x, edges[k].a.y}] > 0) walk(k);
     for (std::size_t k = 0; k < edges.size(); ++k)
-        if (!used[k]) walk(k);
+        if (!used[k]) splice(trail(k));
     g.type = g.lines.empty() ? Geometry::Type::Empty
            : g.lines.size() == 1 ? Geometry::Type::LineString : Geometry::Type::MultiLineString;
     return g;

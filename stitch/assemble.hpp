@@ -13,9 +13,10 @@ namespace trisnap::stitch {
 
 Geometry assemble_polygons(std::vector<Edge> edges, bool has_z);
 
-/// Lines: edges chained into paths, starting where a path must start (more edges leave a
-/// vertex than reach it), then closed chains from their smallest edge.
-Geometry assemble_lines(std::vector<Edge> edges, bool has_z);
+/// Lines: edges chained into paths, first from the input parts' first points (in part order)
+/// where those did not move, then where a path must start (more edges leave a vertex than
+/// reach it), then closed chains from their smallest edge.
+Geometry assemble_lines(std::vector<Edge> edges, const std::vector<Coord>& part_starts, bool has_z);
 
 /// The engine's canonical order of rings and parts (used on tiles' own output too).
 void canonicalise(Geometry& g);

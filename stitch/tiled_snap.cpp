@@ -254,7 +254,13 @@ void Stitcher::assemble(TiledResult& out)
             fo.geometry = whole[f]->geometry;
             ++m_stats.copied_features;
         } else if (!owned[f].empty()) {
-            fo.geometry = cf.polygonal ? assemble_polygons(std::move(owned[f]), has_z) : assemble_lines(std::move(owned[f]), has_z);
+            if (cf.polygonal) {
+                fo.geometry = assemble_polygons(std::move(owned[f]), has_z);
+            } else {
+                std::vector<Coord> starts;
+                for (const auto& line : cf.lines) starts.push_back(line.front());
+                fo.geometry = assemble_lines(std::move(owned[f]), starts, has_z);
+            }
             ++m_stats.assembled_features;
         }
         fo.geometry.has_z = has_z;

@@ -72,7 +72,7 @@ AssessReport assess_layers(OGRLayer& original, OGRLayer& snapped, const AssessOp
     phase("validity");
     assess::measure_separations(b, r, k);
     phase("separations");
-    assess::measure_overlaps(b, invalid, r, k);
+    assess::measure_overlaps(a, b, match, invalid, r, k);
     phase("overlaps");
     assess::measure_gaps(a, b, match, options.tolerance, r, k);
     phase("gaps");

@@ -10,7 +10,8 @@
 //    key is not in the input; empty: output features with no geometry or an empty one;
 //  - attribute mismatch: matched features whose values differ in a field both layers have;
 //  - invalid / overlaps / gaps / area: polygon features only (validity by GDAL's IsValid);
-//  - overlap: a pair of output polygons whose interiors meet (intersection area > 0);
+//  - overlap: a pair of output polygons whose interiors meet (intersection area > 0); "new" when
+//    their input features did not overlap;
 //  - new gap: an input pair sharing boundary longer than 2T whose outputs share none;
 //  - crossing: two distinct output segments meeting other than at a common endpoint (proper
 //    crossings, an endpoint on the other's interior, collinear overlaps), within one feature too;
@@ -51,6 +52,7 @@ struct AssessReport {
     std::int64_t n_in = 0, n_out = 0, n_matched = 0, n_missing = 0, n_extra = 0, n_attr_mismatch = 0;
     std::int64_t n_invalid = 0, n_empty = 0, n_overlaps = 0, gaps_new = 0, n_crossings = 0;
     std::int64_t n_shared_in = 0;           // input pairs sharing > 2T of boundary
+    std::int64_t n_overlaps_new = 0;        // overlapping output pairs whose inputs did not overlap
     double overlap_area = 0;
     std::optional<double> min_vertex_vertex; // none when fewer than two distinct vertices
     std::optional<double> min_vertex_edge;   // none when no vertex has a non-incident edge

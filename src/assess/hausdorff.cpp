@@ -12,6 +12,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <array>
 #include <cmath>
 
 namespace trisnap::assess {
@@ -37,6 +38,8 @@ class Target {
 public:
     explicit Target(std::vector<Seg> segs) : m_segs(std::move(segs))
     {
+        for (const Seg& s : m_segs) m_sorted.push_back(normalised(s));
+        std::sort(m_sorted.begin(), m_sorted.end());
         if (m_segs.size() <= 32) return;
         std::vector<Box> boxes;
         for (const Seg& s : m_segs) boxes.push_back(segment_box(s.a, s.b));
@@ -56,9 +59,17 @@ public:
     }
     double distance_to(std::uint32_t i, Pt p) const { return point_segment_distance(p, m_segs[i].a, m_segs[i].b); }
     const std::vector<Seg>& segments() const { return m_segs; }
+    /// True when this side has exactly this segment (either direction): every point of it is at 0.
+    bool has(const Seg& s) const { return std::binary_search(m_sorted.begin(), m_sorted.end(), normalised(s)); }
 
 private:
+    using Key = std::array<double, 4>;
+    static Key normalised(const Seg& s)
+    {
+        return s.b < s.a ? Key{s.b.x, s.b.y, s.a.x, s.a.y} : Key{s.a.x, s.a.y, s.b.x, s.b.y};
+    }
     std::vector<Seg> m_segs;
+    std::vector<Key> m_sorted;
     StrTree m_tree;
 };
 
@@ -128,7 +139,7 @@ Far directed(const Target& from, const Target& to, double eps)
         [&](const auto& range) {
             for (std::size_t c = range.begin(); c < range.end(); ++c)
                 for (std::size_t i = c * chunk; i < std::min(segs.size(), (c + 1) * chunk); ++i)
-                    directed_edge(segs[i], to, eps, per_chunk[c]);
+                    if (!to.has(segs[i])) directed_edge(segs[i], to, eps, per_chunk[c]);
         },
         tbb::simple_partitioner());
     Far far;

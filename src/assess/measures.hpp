@@ -16,7 +16,9 @@ Matching measure_matching(const LayerData& a, const LayerData& b, AssessReport& 
 /// Returns, per output feature, 1 when it is an invalid polygon.
 std::vector<std::uint8_t> measure_validity(const LayerData& a, const LayerData& b, AssessReport& report, std::size_t k);
 void measure_separations(const LayerData& b, AssessReport& report, std::size_t k);
-void measure_overlaps(const LayerData& b, const std::vector<std::uint8_t>& invalid, AssessReport& report, std::size_t k);
+/// Overlapping output pairs, and which of them overlapped in the input too (`text` "in input").
+void measure_overlaps(const LayerData& a, const LayerData& b, const Matching& match,
+                      const std::vector<std::uint8_t>& invalid, AssessReport& report, std::size_t k);
 void measure_gaps(const LayerData& a, const LayerData& b, const Matching& match, double tolerance,
                   AssessReport& report, std::size_t k);
 void measure_hausdorff(const LayerData& a, const LayerData& b, const Matching& match, double tolerance,

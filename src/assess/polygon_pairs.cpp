@@ -146,10 +146,25 @@ void for_candidate_pairs(const LayerData& d, const PolygonIndex& index, bool pos
 
 } // namespace
 
-void measure_overlaps(const LayerData& b, const std::vector<std::uint8_t>& invalid, AssessReport& r, std::size_t k)
+/// True when the inputs of two output features overlapped already (unmatched: they did not).
+bool overlapped_in_input(const LayerData& a, const std::vector<std::int64_t>& input_of, std::uint32_t i, std::uint32_t j)
+{
+    if (input_of[i] < 0 || input_of[j] < 0) return false;
+    const Feature& fa = a.features[static_cast<std::size_t>(input_of[i])];
+    const Feature& fb = a.features[static_cast<std::size_t>(input_of[j])];
+    if (fa.kind != FeatureKind::polygon || fb.kind != FeatureKind::polygon || !fa.box.overlaps(fb.box)) return false;
+    Pt unused;
+    return intersection_area(a, fa, fb, &unused) > 0;
+}
+
+void measure_overlaps(const LayerData& a, const LayerData& b, const Matching& match, const std::vector<std::uint8_t>& invalid,
+                      AssessReport& r, std::size_t k)
 {
     const PolygonIndex index = index_polygons(b);
     const std::vector<std::int8_t> interior_left = interior_left_of_parts(b);
+    std::vector<std::int64_t> input_of(b.features.size(), -1);
+    for (std::size_t i = 0; i < match.size(); ++i)
+        if (match[i] >= 0) input_of[static_cast<std::size_t>(match[i])] = static_cast<std::int64_t>(i);
     tbb::combinable<std::vector<AssessExample>> found;
     for_candidate_pairs(b, index, true, [&](std::uint32_t i, std::uint32_t j) {
         Pt where;
@@ -157,12 +172,16 @@ void measure_overlaps(const LayerData& b, const std::vector<std::uint8_t>& inval
         if (area <= 0) return;
         const std::int64_t fa = std::min(b.features[i].fid, b.features[j].fid);
         const std::int64_t fb = std::max(b.features[i].fid, b.features[j].fid);
-        found.local().push_back({fa, fb, where.x, where.y, 0, 0, area, "", {}});
+        const bool known = overlapped_in_input(a, input_of, i, j); // few pairs: GEOS is fine here
+        found.local().push_back({fa, fb, where.x, where.y, 0, 0, area, known ? "in input" : "new", {}});
     });
     std::vector<AssessExample> all;
     found.combine_each([&](const auto& v) { all.insert(all.end(), v.begin(), v.end()); });
     std::sort(all.begin(), all.end(), by_fids); // a fixed order makes the float sum repeatable
-    for (const AssessExample& e : all) r.overlap_area += e.value;
+    for (const AssessExample& e : all) {
+        r.overlap_area += e.value;
+        r.n_overlaps_new += e.text == "new";
+    }
     r.n_overlaps = static_cast<std::int64_t>(all.size());
     keep_first(all, k, by_fids);
     r.overlaps = std::move(all);

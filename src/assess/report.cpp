@@ -32,6 +32,7 @@ json examples(const AssessReport& r)
     ex["overlaps"] = list(r.overlaps, [](const AssessExample& e) -> json {
         json j = pair_at(e);
         j["area"] = e.value;
+        j["new"] = e.text == "new";
         return j;
     });
     ex["gaps_new"] = list(r.gaps_new_examples, [](const AssessExample& e) -> json {
@@ -82,6 +83,7 @@ std::string assess_report_json(const AssessReport& r)
     j["n_empty"] = r.n_empty;
     j["n_overlaps"] = r.n_overlaps;
     j["overlap_area"] = r.overlap_area;
+    j["n_overlaps_new"] = r.n_overlaps_new;
     j["n_shared_in"] = r.n_shared_in;
     j["gaps_new"] = r.gaps_new;
     j["n_crossings"] = r.n_crossings;
@@ -117,7 +119,7 @@ std::string assess_report_table(const AssessReport& r)
     row("attribute mismatches", std::to_string(r.n_attr_mismatch));
     row("empty outputs", std::to_string(r.n_empty));
     row("invalid polygons", std::to_string(r.n_invalid));
-    row("overlapping pairs", fmt::format("{} (area {:.6g})", r.n_overlaps, r.overlap_area));
+    row("overlapping pairs", fmt::format("{} (area {:.6g}), {} new", r.n_overlaps, r.overlap_area, r.n_overlaps_new));
     row("new gaps", fmt::format("{} of {} shared boundaries", r.gaps_new, r.n_shared_in));
     row("crossings", std::to_string(r.n_crossings));
     row("min vertex-vertex", sep(r.min_vertex_vertex) + "  (contract >= T)");

@@ -118,6 +118,7 @@ TEST(AssessCli, TrisnapOutputOnAndorraKeepsSeparations)
     for (const char* key : {"n_missing", "n_extra", "n_attr_mismatch", "n_invalid", "n_empty", "gaps_new", "n_crossings"})
         EXPECT_EQ(j[key], 0) << key;
     EXPECT_LE(j["n_overlaps"].get<int>(), input["n_overlaps"].get<int>());
+    EXPECT_EQ(j["n_overlaps_new"], 0);
     EXPECT_GE(j["min_vertex_vertex"].get<double>(), 1e-6);
     EXPECT_GE(j["min_vertex_edge"].get<double>(), 0.5e-6);
 }

@@ -54,6 +54,8 @@ TEST(AssessDefects, OverlapOfKnownArea)
     EXPECT_EQ(r.overlaps[0].fid_b, 2);
     EXPECT_NEAR(r.overlaps[0].x, 1.5, k_eps);
     EXPECT_NEAR(r.overlaps[0].y, 1.0, k_eps);
+    EXPECT_EQ(r.n_overlaps_new, 1);
+    EXPECT_EQ(r.overlaps[0].text, "new");
 }
 
 TEST(AssessDefects, NestedPolygonWithoutBoundaryContactOverlaps)
@@ -61,6 +63,7 @@ TEST(AssessDefects, NestedPolygonWithoutBoundaryContactOverlaps)
     const std::vector<Item> out{{1, square(0, 0, 10)}, {2, square(2, 2, 3)}};
     const AssessReport r = assess_items(out, out, 0.1);
     EXPECT_EQ(r.n_overlaps, 1);
+    EXPECT_EQ(r.n_overlaps_new, 0); // the input overlapped the same way
     EXPECT_NEAR(r.overlap_area, 9.0, k_eps);
     EXPECT_EQ(r.n_crossings, 0);
     // A polygon inside another's hole does not overlap it.

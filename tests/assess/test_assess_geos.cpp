@@ -14,6 +14,7 @@
 #include <array>
 #include <functional>
 #include <iostream>
+#include <limits>
 #include <set>
 #include <stdexcept>
 #include <utility>
@@ -215,6 +216,80 @@ TEST(AssessGeos, FindsWhatAnIndependentGeosCountFinds)
     EXPECT_GE(geos_max, 0.9 * r.max_hausdorff);
     for (GEOSGeometry* g : geoms) GEOSGeom_destroy_r(geos.h, g);
     for (GEOSGeometry* g : segments) GEOSGeom_destroy_r(geos.h, g);
+}
+
+} // namespace
+} // namespace trisnap::test
+
+namespace trisnap::test {
+namespace {
+
+/// Distinct vertices and distinct segments of a layer, read straight from OGR.
+void collect(OGRLayer& layer, std::vector<std::pair<double, double>>& vertices,
+             std::vector<std::array<double, 4>>& segments)
+{
+    std::set<std::pair<double, double>> vs;
+    std::set<std::array<double, 4>> ss;
+    layer.ResetReading();
+    for (OGRFeatureUniquePtr f{layer.GetNextFeature()}; f; f.reset(layer.GetNextFeature())) {
+        std::unique_ptr<OGRGeometry> boundary(f->GetGeometryRef()->Boundary());
+        const std::function<void(const OGRGeometry&)> walk = [&](const OGRGeometry& g) {
+            if (const auto* line = dynamic_cast<const OGRSimpleCurve*>(&g)) {
+                for (int i = 0; i < line->getNumPoints(); ++i) {
+                    vs.insert({line->getX(i), line->getY(i)});
+                    if (i == 0) continue;
+                    std::pair<double, double> p{line->getX(i - 1), line->getY(i - 1)}, q{line->getX(i), line->getY(i)};
+                    if (p == q) continue;
+                    if (q < p) std::swap(p, q);
+                    ss.insert({p.first, p.second, q.first, q.second});
+                }
+            } else if (const auto* c = dynamic_cast<const OGRGeometryCollection*>(&g)) {
+                for (const OGRGeometry* member : *c) walk(*member);
+            }
+        };
+        walk(*boundary);
+    }
+    vertices.assign(vs.begin(), vs.end());
+    segments.assign(ss.begin(), ss.end());
+}
+
+/// Distance from (x, y) to a segment, by the projection written out here (not assess's code).
+double to_segment(double x, double y, const std::array<double, 4>& s)
+{
+    const double ux = s[2] - s[0], uy = s[3] - s[1];
+    double t = ((x - s[0]) * ux + (y - s[1]) * uy) / (ux * ux + uy * uy);
+    t = std::max(0.0, std::min(1.0, t));
+    return std::hypot(x - (s[0] + t * ux), y - (s[1] + t * uy));
+}
+
+TEST(AssessRealData, SeparationsMatchBruteForce)
+{
+    const auto path = shared_data("snapoly_andorra/andorra.gpkg");
+    if (!path) GTEST_SKIP() << "../shared/data/snapoly_andorra/andorra.gpkg is absent";
+    GDALAllRegister();
+    GDALDatasetUniquePtr ds(GDALDataset::Open(path->c_str(), GDAL_OF_VECTOR));
+    ASSERT_TRUE(ds);
+    OGRLayer& layer = *ds->GetLayer(0);
+    layer.SetSpatialFilterRect(1.50, 42.49, 1.53, 42.51);
+    const AssessReport r = assess_layers(layer, layer, AssessOptions{1e-6, "", 20});
+    std::vector<std::pair<double, double>> v;
+    std::vector<std::array<double, 4>> s;
+    collect(layer, v, s);
+    ASSERT_GT(v.size(), 1000u);
+    double vv = std::numeric_limits<double>::infinity(), ve = vv;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        for (std::size_t j = i + 1; j < v.size(); ++j)
+            vv = std::min(vv, std::hypot(v[i].first - v[j].first, v[i].second - v[j].second));
+        for (const auto& seg : s) {
+            const bool incident = (seg[0] == v[i].first && seg[1] == v[i].second) ||
+                                  (seg[2] == v[i].first && seg[3] == v[i].second);
+            if (!incident) ve = std::min(ve, to_segment(v[i].first, v[i].second, seg));
+        }
+    }
+    ASSERT_TRUE(r.min_vertex_vertex && r.min_vertex_edge);
+    EXPECT_NEAR(*r.min_vertex_vertex, vv, 1e-15);
+    EXPECT_NEAR(*r.min_vertex_edge, ve, 1e-15);
+    EXPECT_LT(ve, 1e-6) << "this window has a vertex closer than T to an edge";
 }
 
 } // namespace

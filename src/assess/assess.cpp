@@ -40,6 +40,16 @@ void check_key(OGRLayer& layer, const std::string& key)
                                             fields.empty() ? "none" : fields));
 }
 
+/// The key of the snapped layer: --key, else its `orig_fid` field when the original has none
+/// (trisnap writes the input FID there for formats that renumber features: Shapefile, FlatGeobuf),
+/// else the FID (empty).
+std::string snapped_key(OGRLayer& original, OGRLayer& snapped, const std::string& key)
+{
+    if (!key.empty()) return key;
+    const bool has_orig = snapped.GetLayerDefn()->GetFieldIndex("orig_fid") >= 0;
+    return has_orig && original.GetLayerDefn()->GetFieldIndex("orig_fid") < 0 ? "orig_fid" : "";
+}
+
 } // namespace
 
 AssessReport assess_layers(OGRLayer& original, OGRLayer& snapped, const AssessOptions& options)
@@ -57,9 +67,11 @@ AssessReport assess_layers(OGRLayer& original, OGRLayer& snapped, const AssessOp
         last = now;
     };
     const std::vector<std::string> fields = common_fields(original, snapped);
+    const std::string key_b = snapped_key(original, snapped, options.key_field);
     const assess::LayerData a = assess::read_layer(original, options.key_field, fields);
-    const assess::LayerData b = assess::read_layer(snapped, options.key_field, fields);
+    const assess::LayerData b = assess::read_layer(snapped, key_b, fields);
     phase("read");
+    r.matched_by = !options.key_field.empty() ? "key " + options.key_field : key_b.empty() ? "fid" : "orig_fid";
     r.layer_a = a.name;
     r.layer_b = b.name;
     r.tolerance = options.tolerance;

@@ -5,7 +5,8 @@
 // thread count. Shares no code with src/core: it judges the engine independently.
 //
 // Definitions (distances in layer units):
-//  - features are matched by FID, or by the value of `key_field` (k-th occurrence to k-th);
+//  - features are matched by FID, or by the value of `key_field` (k-th occurrence to k-th); an
+//    `orig_fid` field of the snapped layer (trisnap's for formats that renumber) stands for its FID;
 //  - missing: non-empty input features without a non-empty output; extra: output features whose
 //    key is not in the input; empty: output features with no geometry or an empty one;
 //  - attribute mismatch: matched features whose values differ in a field both layers have;
@@ -48,6 +49,7 @@ struct AssessExample {
 
 struct AssessReport {
     std::string layer_a, layer_b;
+    std::string matched_by; // "fid", "orig_fid" or "key FIELD"
     double tolerance = 0;
     std::int64_t n_in = 0, n_out = 0, n_matched = 0, n_missing = 0, n_extra = 0, n_attr_mismatch = 0;
     std::int64_t n_invalid = 0, n_empty = 0, n_overlaps = 0, gaps_new = 0, n_crossings = 0;

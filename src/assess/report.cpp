@@ -72,6 +72,7 @@ std::string assess_report_json(const AssessReport& r)
     json j;
     j["layer_a"] = r.layer_a;
     j["layer_b"] = r.layer_b;
+    j["matched_by"] = r.matched_by;
     j["tolerance"] = t;
     j["n_in"] = r.n_in;
     j["n_out"] = r.n_out;
@@ -114,7 +115,7 @@ std::string assess_report_table(const AssessReport& r)
     };
     std::string out = fmt::format("assess '{}' -> '{}', tolerance T = {:g}\n", r.layer_a, r.layer_b, t);
     const auto row = [&](const char* name, const std::string& value) { out += fmt::format("  {:<22}{}\n", name, value); };
-    row("features", fmt::format("{} in, {} out, {} matched", r.n_in, r.n_out, r.n_matched));
+    row("features", fmt::format("{} in, {} out, {} matched by {}", r.n_in, r.n_out, r.n_matched, r.matched_by));
     row("missing / extra", fmt::format("{} / {}", r.n_missing, r.n_extra));
     row("attribute mismatches", std::to_string(r.n_attr_mismatch));
     row("empty outputs", std::to_string(r.n_empty));

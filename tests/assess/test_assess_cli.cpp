@@ -59,6 +59,23 @@ TEST(AssessCli, TableJsonAndExitCodes)
     EXPECT_EQ(r.code, 0) << "without --fail-on-defects, defects are data";
 }
 
+TEST(AssessCli, RenumberedOutputsMatchThroughOrigFid)
+{
+    TempDir dir;
+    write_gpkg(dir.path("in.gpkg"), {{5, square(0, 0, 1), "a"}, {9, square(1, 0, 1), "b"}});
+    RunOutput r = run_trisnap(dir, {"snap", dir.path("in.gpkg"), dir.path("out.fgb"), "--tolerance", "0.01", "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    r = run_trisnap(dir, {"assess", dir.path("in.gpkg"), dir.path("out.fgb"), "--tolerance", "0.01", "--json",
+                          dir.path("r.json")});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const nlohmann::json j = read_json(dir.path("r.json"));
+    EXPECT_EQ(j["matched_by"], "orig_fid");
+    EXPECT_EQ(j["n_matched"], 2);
+    EXPECT_EQ(j["n_missing"], 0);
+    EXPECT_EQ(j["n_extra"], 0);
+    EXPECT_EQ(j["n_attr_mismatch"], 0);
+}
+
 TEST(AssessCli, ErrorsAreOneLineWithTheRightCode)
 {
     TempDir dir;

@@ -71,6 +71,7 @@ private:
     Groups m_groups;
     std::map<std::size_t, TileOutcome> m_outcomes; ///< by group id
     std::map<std::size_t, std::size_t> m_runs;     ///< runs per leaf set (by group's first leaf)
+    std::map<std::size_t, double> m_merged_halo;   ///< a merged tile starts from the widest halo its parts had
     std::vector<Problem> m_problems;
     StitchStats m_stats;
     double m_seam = 0; ///< band width around seams
@@ -90,8 +91,7 @@ tiling::TileJob Stitcher::job_for(std::size_t group) const
     }
     job.report_region = region;
     job.halo = m_tiling.halo_factor * m_options.tolerance;
-    for (std::size_t leaf : m_groups.leaves[group]) // a merged tile keeps the widest halo it had
-        if (auto it = m_outcomes.find(m_groups.of_leaf[leaf]); it != m_outcomes.end()) job.halo = std::max(job.halo, it->second.halo);
+    if (auto it = m_merged_halo.find(group); it != m_merged_halo.end()) job.halo = std::max(job.halo, it->second);
     return job;
 }
 
@@ -180,7 +180,7 @@ void Stitcher::merge(const std::vector<std::pair<std::size_t, std::size_t>>& pai
         m_groups.leaves.push_back(std::move(leaves));
         pending.push_back(id);
         m_stats.seam_merges += olds.size() - 1;
-        (void)halo;
+        m_merged_halo[id] = halo;
     }
 }
 

@@ -24,6 +24,11 @@ struct TiledCase {
 
 std::string case_name(const ::testing::TestParamInfo<TiledCase>& info) { return info.param.name; }
 
+std::ostream& operator<<(std::ostream& os, const TiledCase& c)
+{
+    return os << c.file << ":" << c.layer << " t=" << c.tolerance << " tile " << c.tile_size << " budget " << c.budget;
+}
+
 void run_case(const TiledCase& c)
 {
     const auto path = shared_data(c.file);

@@ -95,7 +95,7 @@ SnapResult run_engine(const Loaded& loaded, const Plan& plan, Progress& progress
     SnapResult snapped;
     try {
         if (plan.tiled) {
-            progress.start("snap tiles", -1);
+            progress.start("snap", -1); // the phase names are an interface (--json-progress); tiles done are the units
             stitch::TiledResult tiled = stitch::snap_tiled(loaded.features, plan.options, plan.tiling,
                                                            [&](std::size_t done, std::size_t) { progress.update(static_cast<std::int64_t>(done)); });
             snapped = std::move(tiled.result);

@@ -300,9 +300,25 @@ TiledResult Stitcher::run(const TileProgress& progress)
         pending.push_back(leaf);
     }
     const tiling::JobContext ctx{m_clean, m_has_z, m_boxes, m_options, m_tiling.max_growth};
+    // Input vertices per leaf: the biggest tiles start first, so the last ones to finish are
+    // small (the order of jobs changes nothing in the output).
+    std::vector<std::size_t> leaf_vertices(m_plan.size(), 0);
+    for (const detail::CleanFeature& cf : m_clean) {
+        for (const auto& r : cf.rings)
+            for (const Coord& c : r.points) ++leaf_vertices[m_plan.leaf_of(c.x, c.y)];
+        for (const auto& l : cf.lines)
+            for (const Coord& c : l) ++leaf_vertices[m_plan.leaf_of(c.x, c.y)];
+    }
     for (;;) {
+        std::vector<std::pair<std::size_t, std::size_t>> order; // (-size, group)
+        for (std::size_t g : pending) {
+            std::size_t n = 0;
+            for (std::size_t leaf : m_groups.leaves[g]) n += leaf_vertices[leaf];
+            order.emplace_back(n, g);
+        }
+        std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
         std::vector<tiling::TileJob> jobs;
-        for (std::size_t g : pending) jobs.push_back(job_for(g));
+        for (const auto& [n, g] : order) jobs.push_back(job_for(g));
         const auto t0 = std::chrono::steady_clock::now();
         std::size_t done = 0;
         std::vector<TileOutcome> results = tiling::run_jobs(ctx, jobs, m_tiling.threads, [&](const TileOutcome&) {

@@ -21,10 +21,12 @@ struct TilingOptions {
     /// Halo width as a factor of t. Cascades of snaps were seen to reach 9t (Monaco, 1e-6 deg)
     /// and 16t (1e-5 deg); a cascade that reaches the core from the halo's border doubles it.
     double halo_factor = 32;
-    /// How many times a tile's halo may double before the tile is left to the seam check. The
-    /// cascade test is conservative (any chain of moved vertices within 2t links), so dense data
-    /// at a large t trips it often; the seam check keeps the result consistent either way.
-    int max_growth = 1;
+    /// How many times a tile's halo may double when the cascade test fires (0: no test). The
+    /// test is conservative (any chain of moved vertices within 2t links the halo's border to
+    /// the core): it fired on 2 of Monaco's 4 tiles at 1e-6 deg and doubled their cost, while
+    /// tiled output without it was 100 % identical to untiled on every layer measured (halo 4t
+    /// to 32t). So it is off by default; the seam check keeps the layer consistent either way.
+    int max_growth = 0;
     /// Threads for tiles (0: all cores). The output does not depend on it.
     int threads = 0;
 };

@@ -152,7 +152,7 @@ TileOutcome run_job(const JobContext& ctx, const TileJob& job)
         SnapResult result = snap(in.features, options);
         double x = 0, y = 0;
         std::int64_t feature = 0;
-        const bool reached = cascade_reaches_core(in, result, R, job.core, t, options.grid, x, y, feature);
+        const bool reached = ctx.max_growth > 0 && cascade_reaches_core(in, result, R, job.core, t, options.grid, x, y, feature);
         if (reached && attempt == 0) out.cascade_x = x, out.cascade_y = y, out.cascade_feature = feature;
         if (!reached || attempt >= ctx.max_growth) {
             out.cascade_unbounded = reached;

@@ -42,7 +42,7 @@ struct JobContext {
     const std::vector<bool>& has_z;
     const std::vector<Box>& boxes; ///< per cleaned feature
     const SnapOptions& options;
-    int max_growth = 1;
+    int max_growth = 0; ///< 0: no cascade test (the seam check alone)
 };
 
 TileOutcome run_job(const JobContext& ctx, const TileJob& job);

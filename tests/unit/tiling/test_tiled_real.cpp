@@ -20,6 +20,7 @@ struct TiledCase {
     double tile_size; ///< 0: balanced with `budget`
     std::size_t budget = 100000;
     bool partition = false;
+    int growth = 0; ///< --halo-max-growth; > 0 must see the cascade test fire on this case
 };
 
 std::string case_name(const ::testing::TestParamInfo<TiledCase>& info) { return info.param.name; }
@@ -38,6 +39,7 @@ void run_case(const TiledCase& c)
     const SnapOptions o = options_at(c.tolerance);
     stitch::TilingOptions tiling = tiles_of(c.tile_size);
     tiling.plan.vertex_budget = c.budget;
+    tiling.max_growth = c.growth;
     const SnapResult untiled = snap(data.features, o);
     const TiledRun run = tiled_and_check(data.features, o, tiling);
     const auto diff = differing(untiled, run.tiled.result);
@@ -52,6 +54,10 @@ void run_case(const TiledCase& c)
         << diff.size() << " features differ from the untiled run, first id " << (diff.empty() ? 0 : diff.front());
     EXPECT_EQ(problems_without_seams(untiled.problems), problems_without_seams(run.tiled.result.problems));
     EXPECT_GT(run.tiled.stitch.leaves, 1u) << "the case should cut the layer";
+    if (c.growth > 0) {
+        EXPECT_GT(run.tiled.stitch.halo_growths, 0u) << "the cascade test should fire here";
+        for (const auto& tile : run.tiled.tiles) EXPECT_LE(tile.growths, c.growth);
+    }
     if (c.partition) {
         EXPECT_EQ(run.report.n_overlaps_new, 0u) << run.report.summary();
         EXPECT_EQ(run.report.n_shared_lost, 0u) << run.report.summary();
@@ -68,6 +74,7 @@ const char* bgt = "bgt_delft_3dfier/bgt_delft.gpkg";
 INSTANTIATE_TEST_SUITE_P(Layers, TiledRealData, ::testing::Values(
     TiledCase{"BgtPartitionTinyTiles10cm", bgt, "bgt_maaiveld_partition", 0.1, 20, 0, true},
     TiledCase{"BgtPartitionSmallTiles1m", bgt, "bgt_maaiveld_partition", 1.0, 150, 0, true},
+    TiledCase{"BgtPartitionCascadeTest1m", bgt, "bgt_maaiveld_partition", 1.0, 150, 0, true, 1},
     TiledCase{"BgtPartitionBalanced1cm", bgt, "bgt_maaiveld_partition", 0.01, 0, 2000, true},
     TiledCase{"AndorraSmallTiles", "snapoly_andorra/andorra.gpkg", "andorra", 1e-6, 0.01}), case_name);
 

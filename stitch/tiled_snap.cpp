@@ -6,6 +6,10 @@
 #include "stitch/edges.hpp"
 #include "tiling/tile_job.hpp"
 
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -113,20 +117,36 @@ void Stitcher::seam_groups(const Edge& e, std::vector<std::size_t>& groups) cons
 std::vector<std::pair<std::size_t, std::size_t>> Stitcher::check_seams()
 {
     std::map<std::size_t, std::vector<Edge>> produced, stitched;
-    std::vector<Edge> edges;
-    std::vector<std::size_t> groups;
-    for (auto& [g, oc] : m_outcomes) {
-        for (std::size_t k = 0; k < oc.result.features.size(); ++k) {
-            edges.clear();
-            edges_of(oc.result.features[k].geometry, static_cast<std::uint32_t>(oc.source[k]), edges);
-            for (const Edge& e : edges) {
-                seam_groups(e, groups);
-                if (groups.empty() || !std::binary_search(groups.begin(), groups.end(), g)) continue;
-                produced[g].push_back(e);
-                if (in_extent(e.mx(), e.my()) && owner_group(e.mx(), e.my()) == g)
-                    for (std::size_t h : groups) stitched[h].push_back(e);
+    // Per tile in parallel: its edges near a seam, and those it owns with the tiles they face.
+    struct Near {
+        std::vector<Edge> produced;
+        std::vector<std::pair<Edge, std::vector<std::size_t>>> owned;
+    };
+    std::vector<std::pair<std::size_t, const TileOutcome*>> list;
+    for (auto& [g, oc] : m_outcomes) list.emplace_back(g, &oc);
+    std::vector<Near> near(list.size());
+    const int threads = m_tiling.threads > 0 ? m_tiling.threads : tbb::info::default_concurrency();
+    tbb::task_arena(threads).execute([&] {
+        tbb::parallel_for(std::size_t{0}, list.size(), [&](std::size_t i) {
+            const auto [g, oc] = list[i];
+            std::vector<Edge> edges;
+            std::vector<std::size_t> groups;
+            for (std::size_t k = 0; k < oc->result.features.size(); ++k) {
+                edges.clear();
+                edges_of(oc->result.features[k].geometry, static_cast<std::uint32_t>(oc->source[k]), edges);
+                for (const Edge& e : edges) {
+                    seam_groups(e, groups);
+                    if (groups.empty() || !std::binary_search(groups.begin(), groups.end(), g)) continue;
+                    near[i].produced.push_back(e);
+                    if (in_extent(e.mx(), e.my()) && owner_group(e.mx(), e.my()) == g) near[i].owned.emplace_back(e, groups);
+                }
             }
-        }
+        });
+    });
+    for (std::size_t i = 0; i < list.size(); ++i) {
+        produced[list[i].first] = std::move(near[i].produced);
+        for (const auto& [e, groups] : near[i].owned)
+            for (std::size_t h : groups) stitched[h].push_back(e);
     }
     std::set<std::pair<std::size_t, std::size_t>> pairs;
     for (auto& [g, oc] : m_outcomes) {
@@ -244,24 +264,40 @@ void Stitcher::assemble(TiledResult& out)
         }
         m_problems.push_back(p);
     }
+    // Features cut by seams are rebuilt in parallel (each on its own; the order of work
+    // changes nothing), the rest is copied.
+    std::vector<std::size_t> cut;
+    for (std::size_t f = 0; f < n; ++f)
+        if (!m_clean[f].rejected && !(contributors[f].size() == 1 && whole[f]) && !owned[f].empty()) cut.push_back(f);
+    std::vector<Geometry> rebuilt(cut.size());
+    const int threads = m_tiling.threads > 0 ? m_tiling.threads : tbb::info::default_concurrency();
+    tbb::task_arena(threads).execute([&] {
+        tbb::parallel_for(std::size_t{0}, cut.size(), [&](std::size_t k) {
+            const std::size_t f = cut[k];
+            const detail::CleanFeature& cf = m_clean[f];
+            const bool has_z = m_features[cf.index].geometry.has_z;
+            if (cf.polygonal) {
+                rebuilt[k] = assemble_polygons(std::move(owned[f]), has_z);
+            } else {
+                std::vector<Coord> starts;
+                for (const auto& line : cf.lines) starts.push_back(line.front());
+                rebuilt[k] = assemble_lines(std::move(owned[f]), starts, has_z);
+            }
+        });
+    });
+    std::size_t next_cut = 0;
     for (std::size_t f = 0; f < n; ++f) {
         const detail::CleanFeature& cf = m_clean[f];
         FeatureOutput& fo = res.features[cf.index];
         fo.id = cf.id;
         if (cf.rejected) continue;
         const bool has_z = m_features[cf.index].geometry.has_z;
-        if (contributors[f].size() == 1 && whole[f]) {
+        if (next_cut < cut.size() && cut[next_cut] == f) {
+            fo.geometry = std::move(rebuilt[next_cut++]);
+            ++m_stats.assembled_features;
+        } else if (contributors[f].size() == 1 && whole[f]) {
             fo.geometry = whole[f]->geometry;
             ++m_stats.copied_features;
-        } else if (!owned[f].empty()) {
-            if (cf.polygonal) {
-                fo.geometry = assemble_polygons(std::move(owned[f]), has_z);
-            } else {
-                std::vector<Coord> starts;
-                for (const auto& line : cf.lines) starts.push_back(line.front());
-                fo.geometry = assemble_lines(std::move(owned[f]), starts, has_z);
-            }
-            ++m_stats.assembled_features;
         }
         fo.geometry.has_z = has_z;
         fo.max_displacement = moved[f];

@@ -1,6 +1,5 @@
 #include "tiling/tile_job.hpp"
 
-#include <tbb/global_control.h>
 #include <tbb/info.h>
 #include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <functional>
 #include <sstream>
+#include <type_traits>
 #include <vector>
 
 #include <toml++/toml.h>
@@ -43,68 +44,45 @@ struct KeySpec {
     Setter set;
 };
 
-Setter set_double(double SnapConfig::*field)
+// One key's setter: a float (integers accepted), an integer or a boolean from the TOML node into
+// `field` of `section`; false when the node has another type.
+template <typename Section, typename Field>
+Setter set(Section Config::*section, Field Section::*field)
 {
-    return [field](const toml::node& n, Config& c) {
-        auto v = n.value<double>();
-        if (v) c.snap.*field = *v;
-        return v.has_value();
-    };
-}
-
-Setter set_optional(std::optional<double> SnapConfig::*field)
-{
-    return [field](const toml::node& n, Config& c) {
-        auto v = n.value<double>();
-        if (v) c.snap.*field = *v;
-        return v.has_value();
+    return [section, field](const toml::node& n, Config& c) {
+        Field& target = (c.*section).*field;
+        if constexpr (std::is_same_v<Field, bool>) {
+            auto v = n.as_boolean();
+            if (v) target = v->get();
+            return v != nullptr;
+        } else if constexpr (std::is_integral_v<Field>) {
+            auto v = n.as_integer();
+            if (v) target = static_cast<Field>(v->get());
+            return v != nullptr;
+        } else {
+            auto v = n.value<double>();
+            if (v) target = *v;
+            return v.has_value();
+        }
     };
 }
 
 const std::vector<KeySpec>& key_specs()
 {
     static const std::vector<KeySpec> specs{
-        {"snap", "tolerance", set_optional(&SnapConfig::tolerance)},
-        {"snap", "tolerance_m", set_optional(&SnapConfig::tolerance_m)},
-        {"snap", "edge_separation", set_double(&SnapConfig::edge_separation)},
-        {"snap", "sliver_factor", set_double(&SnapConfig::sliver_factor)},
-        {"snap", "grid", set_double(&SnapConfig::grid)},
-        {"snap", "max_drift_factor", set_double(&SnapConfig::max_drift_factor)},
-        {"snap", "max_operations", [](const toml::node& n, Config& c) {
-             auto v = n.as_integer();
-             if (v) c.snap.max_operations = v->get();
-             return v != nullptr;
-         }},
-        {"tiling", "size", [](const toml::node& n, Config& c) {
-             auto v = n.value<double>();
-             if (v) c.tiling.size = *v;
-             return v.has_value();
-         }},
-        {"tiling", "vertex_budget", [](const toml::node& n, Config& c) {
-             auto v = n.as_integer();
-             if (v) c.tiling.vertex_budget = v->get();
-             return v != nullptr;
-         }},
-        {"tiling", "halo", [](const toml::node& n, Config& c) {
-             auto v = n.value<double>();
-             if (v) c.tiling.halo = *v;
-             return v.has_value();
-         }},
-        {"tiling", "max_growth", [](const toml::node& n, Config& c) {
-             auto v = n.as_integer();
-             if (v) c.tiling.max_growth = static_cast<int>(v->get());
-             return v != nullptr;
-         }},
-        {"tiling", "no_tiles", [](const toml::node& n, Config& c) {
-             auto v = n.as_boolean();
-             if (v) c.tiling.no_tiles = v->get();
-             return v != nullptr;
-         }},
-        {"run", "threads", [](const toml::node& n, Config& c) {
-             auto v = n.as_integer();
-             if (v) c.run.threads = static_cast<int>(v->get());
-             return v != nullptr;
-         }},
+        {"snap", "tolerance", set(&Config::snap, &SnapConfig::tolerance)},
+        {"snap", "tolerance_m", set(&Config::snap, &SnapConfig::tolerance_m)},
+        {"snap", "edge_separation", set(&Config::snap, &SnapConfig::edge_separation)},
+        {"snap", "sliver_factor", set(&Config::snap, &SnapConfig::sliver_factor)},
+        {"snap", "grid", set(&Config::snap, &SnapConfig::grid)},
+        {"snap", "max_drift_factor", set(&Config::snap, &SnapConfig::max_drift_factor)},
+        {"snap", "max_operations", set(&Config::snap, &SnapConfig::max_operations)},
+        {"tiling", "size", set(&Config::tiling, &TilingConfig::size)},
+        {"tiling", "vertex_budget", set(&Config::tiling, &TilingConfig::vertex_budget)},
+        {"tiling", "halo", set(&Config::tiling, &TilingConfig::halo)},
+        {"tiling", "max_growth", set(&Config::tiling, &TilingConfig::max_growth)},
+        {"tiling", "no_tiles", set(&Config::tiling, &TilingConfig::no_tiles)},
+        {"run", "threads", set(&Config::run, &RunConfig::threads)},
     };
     return specs;
 }

@@ -329,27 +329,19 @@ TiledResult Stitcher::run(const TileProgress& progress)
     m_groups.of_leaf.resize(m_plan.size());
     std::vector<std::size_t> pending;
     for (std::size_t leaf = 0; leaf < m_plan.size(); ++leaf) {
-        // Leaves without data (grid cells off the extent) run nothing.
-        if (tiling::clip(m_plan.core(leaf), m_plan.extent()).empty()) { m_groups.of_leaf[leaf] = leaf, m_groups.leaves.push_back({leaf}); continue; }
         m_groups.of_leaf[leaf] = leaf;
         m_groups.leaves.push_back({leaf});
-        pending.push_back(leaf);
+        // Leaves without data (grid cells off the extent) run nothing.
+        if (!tiling::clip(m_plan.core(leaf), m_plan.extent()).empty()) pending.push_back(leaf);
     }
     const tiling::JobContext ctx{m_clean, m_has_z, m_boxes, m_options, m_tiling.max_growth};
-    // Input vertices per leaf: the biggest tiles start first, so the last ones to finish are
-    // small (the order of jobs changes nothing in the output).
-    std::vector<std::size_t> leaf_vertices(m_plan.size(), 0);
-    for (const detail::CleanFeature& cf : m_clean) {
-        for (const auto& r : cf.rings)
-            for (const Coord& c : r.points) ++leaf_vertices[m_plan.leaf_of(c.x, c.y)];
-        for (const auto& l : cf.lines)
-            for (const Coord& c : l) ++leaf_vertices[m_plan.leaf_of(c.x, c.y)];
-    }
     for (;;) {
+        // The biggest tiles start first, so the last ones to finish are small (the order of
+        // jobs changes nothing in the output).
         std::vector<std::pair<std::size_t, std::size_t>> order; // (-size, group)
         for (std::size_t g : pending) {
             std::size_t n = 0;
-            for (std::size_t leaf : m_groups.leaves[g]) n += leaf_vertices[leaf];
+            for (std::size_t leaf : m_groups.leaves[g]) n += m_plan.leaf_vertices(leaf);
             order.emplace_back(n, g);
         }
         std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first > b.first; });

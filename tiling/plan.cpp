@@ -126,17 +126,22 @@ TilePlan make_plan(const std::vector<Feature>& features, const PlanOptions& opti
 {
     TilePlan plan;
     std::vector<double> xs, ys;
-    auto visit = [&](const Coord& c) {
-        if (!std::isfinite(c.x) || !std::isfinite(c.y)) return;
+    auto for_each_vertex = [&](auto&& visit) {
+        for (const Feature& f : features) {
+            for (const Polygon& p : f.geometry.polygons)
+                for (const Path& r : p.rings)
+                    for (const Coord& c : r)
+                        if (std::isfinite(c.x) && std::isfinite(c.y)) visit(c);
+            for (const Path& l : f.geometry.lines)
+                for (const Coord& c : l)
+                    if (std::isfinite(c.x) && std::isfinite(c.y)) visit(c);
+        }
+    };
+    for_each_vertex([&](const Coord& c) {
         plan.m_extent.add(c.x, c.y);
         ++plan.m_vertices;
         if (!options.single && options.tile_size <= 0) xs.push_back(c.x), ys.push_back(c.y);
-    };
-    for (const Feature& f : features) {
-        for (const Polygon& p : f.geometry.polygons)
-            for (const Path& r : p.rings) std::for_each(r.begin(), r.end(), visit);
-        for (const Path& l : f.geometry.lines) std::for_each(l.begin(), l.end(), visit);
-    }
+    });
     const Region everything;
     if (options.single || plan.m_extent.empty()) {
         plan.add_leaf(everything);
@@ -152,6 +157,8 @@ TilePlan make_plan(const std::vector<Feature>& features, const PlanOptions& opti
     } else {
         plan.build_balanced(xs, ys, 0, xs.size(), everything, std::max<std::size_t>(options.vertex_budget, 16), 0);
     }
+    plan.m_leaf_vertices.assign(plan.size(), 0);
+    for_each_vertex([&](const Coord& c) { ++plan.m_leaf_vertices[plan.leaf_of(c.x, c.y)]; });
     return plan;
 }
 

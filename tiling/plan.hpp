@@ -49,6 +49,8 @@ public:
     /// Extent of the input (closed box of every vertex).
     const Box& extent() const { return m_extent; }
     std::size_t input_vertices() const { return m_vertices; }
+    /// Input vertices whose point the leaf's core holds.
+    std::size_t leaf_vertices(std::size_t leaf) const { return m_leaf_vertices[leaf]; }
 
     friend TilePlan make_plan(const std::vector<Feature>& features, const PlanOptions& options);
 
@@ -67,6 +69,7 @@ private:
 
     std::vector<Node> m_nodes;
     std::vector<Region> m_cores;
+    std::vector<std::size_t> m_leaf_vertices;
     Box m_extent;
     std::size_t m_vertices = 0;
 };

@@ -59,13 +59,11 @@ ordered_json timings_json(const RunResult& r, double total)
                         {"label", s.seconds_label}, {"extract", s.seconds_extract}}}};
 }
 
-ordered_json tiling_json(const Plan& plan, const RunResult& r)
+ordered_json tiling_json(const RunResult& r)
 {
     if (!r.tiled) return {{"tiled", false}};
     const stitch::StitchStats& s = r.stitch;
-    ordered_json out = {{"tiled", true},
-        {"plan", {{"tile_size", plan.tiling.plan.tile_size}, {"vertex_budget", plan.tiling.plan.vertex_budget},
-                  {"halo_factor", plan.tiling.halo_factor}, {"max_growth", plan.tiling.max_growth}}},
+    ordered_json out = {{"tiled", true}, // the options are in config.tiling
         {"leaves", s.leaves}, {"tiles", s.tiles}, {"tile_runs", s.tile_runs}, {"seam_merges", s.seam_merges},
         {"halo_growths", s.halo_growths}, {"unbounded_cascades", s.unbounded_cascades},
         {"copied_features", s.copied_features}, {"assembled_features", s.assembled_features},
@@ -134,7 +132,7 @@ void write_report(const std::string& path, const Plan& plan, const RunResult& re
     report["engine"] = stats_json(result.stats);
     report["timings_s"] = timings_json(result, total_seconds);
     report["peak_memory_mb"] = peak_memory_mb();
-    report["tiling"] = tiling_json(plan, result);
+    report["tiling"] = tiling_json(result);
     report["problems_by_code"] = by_code_json(result.problems);
     report["problems"] = problems_json(result.problems);
     std::ofstream file(path);

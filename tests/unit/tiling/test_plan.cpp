@@ -56,7 +56,10 @@ TEST(TilePlan, BalancedTilesRespectTheVertexBudget)
             for (const Path& r : p.rings)
                 for (const Coord& q : r) ++count[plan.leaf_of(q.x, q.y)], ++total;
     EXPECT_EQ(total, plan.input_vertices());
-    for (std::size_t n : count) EXPECT_LE(n, 1000u);
+    for (std::size_t k = 0; k < plan.size(); ++k) {
+        EXPECT_LE(count[k], 1000u);
+        EXPECT_EQ(plan.leaf_vertices(k), count[k]);
+    }
     EXPECT_LE(plan.size(), 2 * total / 1000 + 2); // median splits: not needlessly many
 }
 

@@ -2,7 +2,7 @@
 
 #include "core/input_cleaning.hpp"
 #include "core/outcome.hpp"
-#include "stitch/assemble.hpp"
+#include "core/assemble.hpp"
 #include "stitch/edges.hpp"
 #include "tiling/tile_job.hpp"
 
@@ -276,12 +276,19 @@ void Stitcher::assemble(TiledResult& out)
             const std::size_t f = cut[k];
             const detail::CleanFeature& cf = m_clean[f];
             const bool has_z = m_features[cf.index].geometry.has_z;
+            std::vector<DirectedEdge> edges;
+            edges.reserve(owned[f].size());
+            for (const Edge& e : owned[f]) {
+                edges.push_back(DirectedEdge{e.a, e.b});
+            }
             if (cf.polygonal) {
-                rebuilt[k] = assemble_polygons(std::move(owned[f]), has_z);
+                rebuilt[k] = assemble_polygons(std::move(edges), has_z);
             } else {
                 std::vector<Coord> starts;
-                for (const auto& line : cf.lines) starts.push_back(line.front());
-                rebuilt[k] = assemble_lines(std::move(owned[f]), starts, has_z);
+                for (const auto& line : cf.lines) {
+                    starts.push_back(round_to_grid(line.front(), m_options.grid));
+                }
+                rebuilt[k] = assemble_lines(std::move(edges), starts, has_z);
             }
         });
     });

@@ -6,7 +6,7 @@
 // merged into one and snapped again (problem 301), until no seam disagrees; then each vertex of
 // the stitched layer has exactly the neighbourhood one tile produced, so the contract that
 // holds in every tile holds in the stitched layer. A feature owned by one tile that had it whole
-// is copied; a feature cut by seams is rebuilt from its owned edges (stitch/assemble).
+// is copied; a feature cut by seams is rebuilt from its owned edges (core/assemble.hpp).
 #include "core/snap.hpp"
 #include "tiling/plan.hpp"
 

@@ -1,5 +1,7 @@
 #include "tiling/tile_input.hpp"
 
+#include "core/predicates.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -37,7 +39,7 @@ public:
         if (count == n) return ring;
         intact = false;
         if (count == 0) {
-            if (!point_in_ring(ring, m_c.x, m_c.y)) return {};
+            if (locate_in_ring(ring, m_c) <= 0) return {};
             Box b;
             for (const Coord& c : ring) b.add(c.x, c.y);
             return {{b.xmin, b.ymin}, {b.xmax, b.ymin}, {b.xmax, b.ymax}, {b.xmin, b.ymax}};
@@ -115,16 +117,6 @@ private:
 
 } // namespace
 
-bool point_in_ring(const std::vector<Coord>& ring, double x, double y)
-{
-    bool in = false;
-    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
-        const Coord &a = ring[i], &b = ring[j];
-        if ((a.y > y) != (b.y > y) && x < (b.x - a.x) * (y - a.y) / (b.y - a.y) + a.x) in = !in;
-    }
-    return in;
-}
-
 bool segment_meets_box(const Coord& p, const Coord& q, const Box& b)
 {
     if (std::max(p.x, q.x) < b.xmin || std::min(p.x, q.x) > b.xmax || std::max(p.y, q.y) < b.ymin ||
@@ -132,11 +124,14 @@ bool segment_meets_box(const Coord& p, const Coord& q, const Box& b)
         return false;
     auto inside = [&](const Coord& c) { return b.xmin <= c.x && c.x <= b.xmax && b.ymin <= c.y && c.y <= b.ymax; };
     if (inside(p) || inside(q)) return true;
-    const double dx = q.x - p.x, dy = q.y - p.y;
-    const double s[4] = {cross(dx, dy, b.xmin - p.x, b.ymin - p.y), cross(dx, dy, b.xmax - p.x, b.ymin - p.y),
-                         cross(dx, dy, b.xmax - p.x, b.ymax - p.y), cross(dx, dy, b.xmin - p.x, b.ymax - p.y)};
-    bool pos = false, neg = false;
-    for (double v : s) pos |= v >= 0, neg |= v <= 0;
+    // The segment's line separates no two corners exactly when the box misses it (exact signs).
+    bool pos = false;
+    bool neg = false;
+    for (const Coord corner : {Coord{b.xmin, b.ymin}, Coord{b.xmax, b.ymin}, Coord{b.xmax, b.ymax}, Coord{b.xmin, b.ymax}}) {
+        const int side = orientation(p, q, corner);
+        pos |= side >= 0;
+        neg |= side <= 0;
+    }
     return pos && neg;
 }
 

@@ -21,8 +21,6 @@ struct TileInput {
 };
 
 bool segment_meets_box(const Coord& p, const Coord& q, const Box& b);
-/// Crossing-number test of an open or closed ring (a point on the boundary may go either way).
-bool point_in_ring(const std::vector<Coord>& ring, double x, double y);
 
 /// `candidates`: cleaned features whose box meets R (ascending indices); rejected ones skipped.
 /// `has_z[i]`: whether cleaned feature i carries Z.

@@ -195,10 +195,11 @@ void extract_all(Context& c, const detail::FaceLabels& labels)
         if (cf.polygonal) {
             out.geometry = detail::extract_polygons(c.mesh, labels.faces_of[f], eo);
         } else {
-            std::vector<std::uint32_t> starts;
-            std::size_t k = 0;
-            for (const auto& l : cf.lines) starts.push_back(c.mesh.current(c.mesh.input_vertices(f)[k])), k += l.size();
-            out.geometry = detail::extract_lines(c.mesh, std::move(lines[f]), starts, eo);
+            std::vector<Coord> starts;
+            for (const auto& l : cf.lines) {
+                starts.push_back(l.front());
+            }
+            out.geometry = detail::extract_lines(c.mesh, lines[f], starts, eo);
         }
         out.geometry.has_z = has_z;
         out.max_displacement = std::max(feature_displacement(c, f), deviation[f]);

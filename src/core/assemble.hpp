@@ -1,0 +1,45 @@
+#pragma once
+// Directed edges -> geometry: the one place where output rings and lines are built. The engine
+// hands in the boundary edges of a feature's faces in its triangulation; the tiled path hands
+// in the edges of a feature that the tiles own (stitch/). Both hand in the same edges for the
+// same feature when the seams agree, so tiled and untiled output are equal by construction.
+//
+// Polygons (after the TU Delft tracing used by prepair): the boundary is traced with the feature
+// on the left; at a vertex where the feature touches itself the trace stays within one sector
+// (the next edge is the first out-edge clockwise from the way back), and a cycle that still
+// visits a vertex twice is cut there into simple loops. Counter-clockwise loops are shells,
+// clockwise loops holes of the innermost shell holding them. The result is OGC-valid when the
+// edges are those of a planar subdivision (no two cross or overlap): simple rings, holes
+// touching shells at points at most.
+// Lines: edges chained into paths, first from the parts' start points (in part order), then
+// from where a path must start (more edges leave a vertex than reach it), then closed chains
+// from their smallest edge; a closed chain through a vertex of a traced path is spliced into it.
+// Output is canonical: rings start at their lexicographically smallest vertex, holes and parts
+// are sorted by that vertex. Every decision is exact (core/predicates.hpp): orientation and
+// angular order by exact predicates, point identity by exact equality of x and y.
+#include "core/geometry.hpp"
+
+#include <vector>
+
+namespace trisnap {
+
+/// One directed edge of a feature's output: of a polygon's boundary (the feature on its left)
+/// or of one of its lines. z is carried, never used to decide anything.
+struct DirectedEdge {
+    Coord a;
+    Coord b;
+};
+
+/// Rings from the boundary edges of one polygonal feature. Repeated edges are kept once and
+/// zero-length edges dropped; loops that close with fewer than three vertices and holes that no
+/// shell holds (impossible for a planar subdivision) are dropped.
+Geometry assemble_polygons(std::vector<DirectedEdge> edges, bool has_z);
+
+/// Paths from the edges of one line feature. `part_starts`: where each input part begins (the
+/// caller rounds them as it rounds the edges).
+Geometry assemble_lines(std::vector<DirectedEdge> edges, const std::vector<Coord>& part_starts, bool has_z);
+
+/// Rounds x and y to multiples of g (g = 0: unchanged), without negative zeros; z is kept.
+Coord round_to_grid(Coord c, double g);
+
+} // namespace trisnap

@@ -1,0 +1,335 @@
+// Rings from directed boundary edges (see assemble.hpp): tracing with sector rule, loop cutting,
+// exact orientation of loops, holes to the innermost shell holding them.
+#include "core/assemble.hpp"
+#include "core/assemble_detail.hpp"
+#include "core/predicates.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <numeric>
+
+namespace trisnap {
+namespace {
+
+using detail::EdgeKeyLess;
+using detail::same_xy;
+
+constexpr std::size_t k_none = std::numeric_limits<std::size_t>::max();
+
+struct Loop {
+    std::vector<Coord> pts;
+    double xmin = 0, ymin = 0, xmax = 0, ymax = 0;
+    bool shell = false;
+};
+
+bool box_contains(const Loop& outer, const Loop& inner)
+{
+    return outer.xmin <= inner.xmin && inner.xmax <= outer.xmax && outer.ymin <= inner.ymin &&
+           inner.ymax <= outer.ymax;
+}
+
+// A loop's edges bucketed by horizontal strips, and its vertices sorted, built once per shell
+// that has to be tested: a point test then looks at one strip instead of the whole ring.
+class RingIndex {
+public:
+    explicit RingIndex(const Loop& loop);
+    int locate(const Coord& p) const;
+    bool has_vertex(const Coord& p) const { return std::binary_search(m_sorted.begin(), m_sorted.end(), p, xy_less); }
+
+private:
+    std::size_t strip(double y) const;
+
+    const std::vector<Coord>& m_pts;
+    std::vector<Coord> m_sorted;
+    double m_y0 = 0;
+    double m_y1 = 0;
+    double m_step = 1;
+    std::vector<std::vector<std::uint32_t>> m_strips;
+};
+
+RingIndex::RingIndex(const Loop& loop) : m_pts(loop.pts), m_sorted(loop.pts), m_y0(loop.ymin), m_y1(loop.ymax)
+{
+    std::sort(m_sorted.begin(), m_sorted.end(), xy_less);
+    const std::size_t n = m_pts.size();
+    m_strips.resize(std::max<std::size_t>(1, n / 8));
+    m_step = (m_y1 - m_y0) / static_cast<double>(m_strips.size());
+    if (!(m_step > 0)) {
+        m_strips.resize(1);
+    }
+    for (std::uint32_t i = 0; i < n; ++i) {
+        const Coord& a = m_pts[i];
+        const Coord& b = m_pts[(i + 1) % n];
+        for (std::size_t k = strip(std::min(a.y, b.y)); k <= strip(std::max(a.y, b.y)); ++k) {
+            m_strips[k].push_back(i);
+        }
+    }
+}
+
+std::size_t RingIndex::strip(double y) const
+{
+    if (m_strips.size() == 1) {
+        return 0;
+    }
+    const double k = std::floor((y - m_y0) / m_step);
+    return static_cast<std::size_t>(std::clamp(k, 0.0, static_cast<double>(m_strips.size() - 1)));
+}
+
+// Every edge whose y-range holds p.y is in p's strip, so the crossing number is complete.
+int RingIndex::locate(const Coord& p) const
+{
+    if (p.y < m_y0 || p.y > m_y1) {
+        return -1;
+    }
+    bool inside = false;
+    const std::size_t n = m_pts.size();
+    for (std::uint32_t i : m_strips[strip(p.y)]) {
+        const RayStep step = ray_step(m_pts[i], m_pts[(i + 1) % n], p);
+        if (step == RayStep::on_segment) {
+            return 0;
+        }
+        inside ^= step == RayStep::crosses;
+    }
+    return inside ? 1 : -1;
+}
+
+// Is direction u->v strictly inside the interior sector of a counter-clockwise ring at its
+// vertex u (between u->next and u->prev, counter-clockwise)?
+bool in_interior_sector(const Coord& prev, const Coord& u, const Coord& next, const Coord& v)
+{
+    if (orientation(u, next, prev) > 0) {
+        return orientation(u, next, v) > 0 && orientation(u, v, prev) > 0;
+    }
+    return !(orientation(u, prev, v) >= 0 && orientation(u, v, next) >= 0);
+}
+
+class PolygonAssembler {
+public:
+    PolygonAssembler(std::vector<DirectedEdge> edges, bool has_z);
+    Geometry run();
+
+private:
+    void index_vertices();
+    std::size_t next(std::size_t e) const;
+    void trace(std::size_t start);
+    void emit(const std::vector<std::size_t>& seq, std::size_t from);
+    std::size_t holder_of(const Loop& hole);
+    bool inside(std::size_t shell, const Loop& loop);
+    const RingIndex& index_of(std::size_t shell);
+
+    std::vector<DirectedEdge> m_edges;
+    bool m_has_z;
+    std::vector<std::size_t> m_vertex_of_start; ///< edge -> index of its start vertex
+    std::vector<std::size_t> m_vertex_of_end;   ///< edge -> index of its end vertex (k_none: open)
+    std::vector<std::size_t> m_first;           ///< vertex -> first position in m_out
+    std::vector<std::size_t> m_out;             ///< edge indices by start vertex, then by angle
+    std::vector<bool> m_used;
+    std::vector<std::size_t> m_pos;             ///< vertex -> position in the current trace
+    std::vector<Loop> m_loops;
+    std::vector<std::unique_ptr<RingIndex>> m_index; ///< per loop, built on demand
+};
+
+PolygonAssembler::PolygonAssembler(std::vector<DirectedEdge> edges, bool has_z)
+    : m_edges(std::move(edges)), m_has_z(has_z)
+{
+    std::erase_if(m_edges, [](const DirectedEdge& e) { return same_xy(e.a, e.b); });
+    std::sort(m_edges.begin(), m_edges.end(), EdgeKeyLess{});
+    m_edges.erase(std::unique(m_edges.begin(), m_edges.end(), detail::edge_key_equal), m_edges.end());
+}
+
+// Edges are sorted by start point, so each vertex's out-edges are one run; within it they are
+// ordered counter-clockwise around the vertex.
+void PolygonAssembler::index_vertices()
+{
+    const std::size_t n = m_edges.size();
+    m_vertex_of_start.resize(n);
+    std::vector<Coord> vertices;
+    for (std::size_t e = 0; e < n; ++e) {
+        if (vertices.empty() || !same_xy(vertices.back(), m_edges[e].a)) {
+            vertices.push_back(m_edges[e].a);
+            m_first.push_back(e);
+        }
+        m_vertex_of_start[e] = vertices.size() - 1;
+    }
+    m_first.push_back(n);
+    m_out.resize(n);
+    std::iota(m_out.begin(), m_out.end(), std::size_t{0});
+    for (std::size_t v = 0; v + 1 < m_first.size(); ++v) {
+        std::sort(m_out.begin() + static_cast<std::ptrdiff_t>(m_first[v]), m_out.begin() + static_cast<std::ptrdiff_t>(m_first[v + 1]),
+                  [&](std::size_t i, std::size_t j) { return direction_less(vertices[v], m_edges[i].b, m_edges[j].b); });
+    }
+    m_vertex_of_end.assign(n, k_none);
+    for (std::size_t e = 0; e < n; ++e) {
+        auto it = std::lower_bound(vertices.begin(), vertices.end(), m_edges[e].b, xy_less);
+        if (it != vertices.end() && same_xy(*it, m_edges[e].b)) {
+            m_vertex_of_end[e] = static_cast<std::size_t>(it - vertices.begin());
+        }
+    }
+    m_used.assign(n, false);
+    m_pos.assign(vertices.size(), k_none);
+}
+
+// The edge leaving the end of e within the same sector of the feature: among the out-edges
+// (counter-clockwise), the last one before the direction back along e, else the last overall.
+std::size_t PolygonAssembler::next(std::size_t e) const
+{
+    const std::size_t v = m_vertex_of_end[e];
+    if (v == k_none) {
+        return k_none;
+    }
+    const Coord& at = m_edges[e].b;
+    const Coord& back = m_edges[e].a;
+    const auto lo = m_out.begin() + static_cast<std::ptrdiff_t>(m_first[v]);
+    const auto hi = m_out.begin() + static_cast<std::ptrdiff_t>(m_first[v + 1]);
+    const auto it = std::lower_bound(lo, hi, back, [&](std::size_t o, const Coord& b) {
+        return direction_less(at, m_edges[o].b, b);
+    });
+    return it != lo ? *(it - 1) : *(hi - 1);
+}
+
+void PolygonAssembler::trace(std::size_t start)
+{
+    std::vector<std::size_t> seq;
+    for (std::size_t h = start; h != k_none && !m_used[h]; h = next(h)) {
+        m_used[h] = true;
+        const std::size_t v = m_vertex_of_start[h];
+        if (m_pos[v] != k_none) { // the trace came back to v: cut the loop that closes there
+            const std::size_t k = m_pos[v];
+            emit(seq, k);
+            for (std::size_t q = k; q < seq.size(); ++q) {
+                m_pos[m_vertex_of_start[seq[q]]] = k_none;
+            }
+            seq.resize(k);
+        }
+        m_pos[v] = seq.size();
+        seq.push_back(h);
+    }
+    emit(seq, 0);
+    for (std::size_t h : seq) {
+        m_pos[m_vertex_of_start[h]] = k_none;
+    }
+}
+
+// A simple loop's orientation is the turn at its lexicographically smallest vertex (never
+// collinear there: both neighbours lie on one side of a vertical line through it).
+void PolygonAssembler::emit(const std::vector<std::size_t>& seq, std::size_t from)
+{
+    if (seq.size() < from + 3) {
+        return;
+    }
+    Loop loop;
+    for (std::size_t q = from; q < seq.size(); ++q) {
+        loop.pts.push_back(m_edges[seq[q]].a);
+    }
+    const auto low = std::min_element(loop.pts.begin(), loop.pts.end(), xy_less);
+    std::rotate(loop.pts.begin(), low, loop.pts.end());
+    const int turn = orientation(loop.pts.back(), loop.pts[0], loop.pts[1]);
+    if (turn == 0) {
+        return;
+    }
+    loop.shell = turn > 0;
+    loop.xmin = loop.xmax = loop.pts[0].x;
+    loop.ymin = loop.ymax = loop.pts[0].y;
+    for (const Coord& c : loop.pts) {
+        loop.xmin = std::min(loop.xmin, c.x);
+        loop.xmax = std::max(loop.xmax, c.x);
+        loop.ymin = std::min(loop.ymin, c.y);
+        loop.ymax = std::max(loop.ymax, c.y);
+    }
+    m_loops.push_back(std::move(loop));
+}
+
+const RingIndex& PolygonAssembler::index_of(std::size_t shell)
+{
+    if (!m_index[shell]) {
+        m_index[shell] = std::make_unique<RingIndex>(m_loops[shell]);
+    }
+    return *m_index[shell];
+}
+
+// Does the shell hold the loop? Loops of a planar subdivision do not cross, so any vertex of the
+// loop that is not a vertex of the shell decides; a loop whose every vertex lies on the shell is
+// decided by the direction of its first edge at the shell's vertex.
+bool PolygonAssembler::inside(std::size_t shell, const Loop& loop)
+{
+    const RingIndex& index = index_of(shell);
+    for (const Coord& p : loop.pts) {
+        if (!index.has_vertex(p)) {
+            return index.locate(p) > 0;
+        }
+    }
+    const std::vector<Coord>& s = m_loops[shell].pts;
+    const auto at = std::find_if(s.begin(), s.end(), [&](const Coord& c) { return same_xy(c, loop.pts[0]); });
+    const std::size_t k = static_cast<std::size_t>(at - s.begin());
+    const Coord& prev = s[(k + s.size() - 1) % s.size()];
+    const Coord& next = s[(k + 1) % s.size()];
+    return in_interior_sector(prev, s[k], next, loop.pts[1]);
+}
+
+// The innermost shell holding the hole: shells of one feature are nested or apart, so of two
+// that hold it the inner one lies in the outer one.
+std::size_t PolygonAssembler::holder_of(const Loop& hole)
+{
+    std::vector<std::size_t> candidates;
+    for (std::size_t s = 0; s < m_loops.size(); ++s) {
+        if (m_loops[s].shell && box_contains(m_loops[s], hole)) {
+            candidates.push_back(s);
+        }
+    }
+    if (candidates.size() <= 1) {
+        return candidates.empty() ? k_none : candidates[0];
+    }
+    std::size_t best = k_none;
+    for (std::size_t s : candidates) {
+        if (!inside(s, hole)) {
+            continue;
+        }
+        if (best == k_none || inside(best, m_loops[s])) {
+            best = s;
+        }
+    }
+    return best;
+}
+
+Geometry PolygonAssembler::run()
+{
+    Geometry g;
+    g.has_z = m_has_z;
+    index_vertices();
+    for (std::size_t e = 0; e < m_edges.size(); ++e) {
+        if (!m_used[e]) {
+            trace(e);
+        }
+    }
+    m_index.resize(m_loops.size());
+    std::vector<std::size_t> polygon_of(m_loops.size(), k_none);
+    for (std::size_t k = 0; k < m_loops.size(); ++k) {
+        if (m_loops[k].shell) {
+            polygon_of[k] = g.polygons.size();
+            g.polygons.push_back(Polygon{{m_loops[k].pts}});
+        }
+    }
+    for (const Loop& hole : m_loops) {
+        if (hole.shell) {
+            continue;
+        }
+        const std::size_t holder = holder_of(hole);
+        if (holder != k_none) {
+            g.polygons[polygon_of[holder]].rings.push_back(hole.pts);
+        }
+    }
+    detail::close_and_sort(g);
+    g.type = g.polygons.empty() ? Geometry::Type::Empty
+           : g.polygons.size() == 1 ? Geometry::Type::Polygon : Geometry::Type::MultiPolygon;
+    return g;
+}
+
+} // namespace
+
+Geometry assemble_polygons(std::vector<DirectedEdge> edges, bool has_z)
+{
+    return PolygonAssembler(std::move(edges), has_z).run();
+}
+
+} // namespace trisnap

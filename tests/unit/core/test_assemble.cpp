@@ -1,0 +1,206 @@
+// The one assembler (core/assemble.hpp): directed edges -> canonical geometry, with exact
+// predicates. Hand-made planar subdivisions with their expected WKT, invariance under edge order,
+// the exact predicates against CGAL's exact kernel, and the engine's own output reassembled.
+#include "snap_harness.hpp"
+
+#include "core/assemble.hpp"
+#include "core/predicates.hpp"
+#include "core/wkt.hpp"
+
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <sstream>
+
+namespace trisnap {
+namespace {
+
+// Directed edges of a ring given as open points; reversed for holes given counter-clockwise.
+void add_ring(std::vector<DirectedEdge>& edges, const std::vector<Coord>& pts, bool reverse = false)
+{
+    std::vector<Coord> p = pts;
+    if (reverse) {
+        std::reverse(p.begin(), p.end());
+    }
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        edges.push_back(DirectedEdge{p[i], p[(i + 1) % p.size()]});
+    }
+}
+
+std::string wkt_of(const Geometry& g) { return to_wkt(g); }
+
+std::string assembled(std::vector<DirectedEdge> edges, unsigned seed = 0)
+{
+    std::mt19937 rng(seed);
+    std::shuffle(edges.begin(), edges.end(), rng);
+    return wkt_of(assemble_polygons(std::move(edges), false));
+}
+
+std::vector<Coord> square(double x0, double y0, double s)
+{
+    return {{x0, y0}, {x0 + s, y0}, {x0 + s, y0 + s}, {x0, y0 + s}};
+}
+
+TEST(Assemble, SquareWithHoleIsCanonicalWhateverTheEdgeOrder)
+{
+    std::vector<DirectedEdge> e;
+    add_ring(e, square(0, 0, 10));
+    add_ring(e, square(2, 2, 2), true);
+    const std::string expected = "POLYGON ((0 0, 10 0, 10 10, 0 10, 0 0), (2 2, 2 4, 4 4, 4 2, 2 2))";
+    for (unsigned seed = 0; seed < 8; ++seed) {
+        EXPECT_EQ(assembled(e, seed), expected) << "seed " << seed;
+    }
+}
+
+TEST(Assemble, ShellsTouchingAtAVertexStayTwoPolygons)
+{
+    std::vector<DirectedEdge> e;
+    add_ring(e, square(0, 0, 1));
+    add_ring(e, square(1, 1, 1));
+    EXPECT_EQ(assembled(e), "MULTIPOLYGON (((0 0, 1 0, 1 1, 0 1, 0 0)), ((1 1, 2 1, 2 2, 1 2, 1 1)))");
+}
+
+TEST(Assemble, HoleTouchingItsShellAtOnePointIsCutThere)
+{
+    // The hole's leftmost point is a vertex of the shell: traced within sectors, the shell and
+    // the hole come out as two loops through that vertex.
+    std::vector<DirectedEdge> e;
+    add_ring(e, {{0, 0}, {10, 0}, {10, 10}, {0, 10}, {0, 5}});
+    add_ring(e, {{0, 5}, {3, 4}, {3, 6}}, true);
+    EXPECT_EQ(assembled(e), "POLYGON ((0 0, 10 0, 10 10, 0 10, 0 5, 0 0), (0 5, 3 6, 3 4, 0 5))");
+}
+
+TEST(Assemble, NestedIslandsGetTheirHolesFromTheInnermostShell)
+{
+    std::vector<DirectedEdge> e;
+    add_ring(e, square(0, 0, 100));     // shell A
+    add_ring(e, square(10, 10, 80), true); // its hole (a lake)
+    add_ring(e, square(20, 20, 60));    // island B in the lake
+    add_ring(e, square(30, 30, 10), true); // a pond on B
+    add_ring(e, square(60, 60, 10), true); // another pond on B
+    const Geometry g = assemble_polygons(e, false);
+    ASSERT_EQ(g.polygons.size(), 2u);
+    EXPECT_EQ(g.polygons[0].rings.size(), 2u); // A and its lake
+    EXPECT_EQ(g.polygons[1].rings.size(), 3u); // B and its two ponds
+    EXPECT_EQ(g.polygons[1].rings[0][0].x, 20);
+}
+
+TEST(Assemble, HoleWhoseEveryVertexIsOnAnIsland)
+{
+    // A lake whose corners are all vertices of a star-shaped island in it: the island's box
+    // holds the lake's box and no lake vertex decides, so the direction of the lake's first edge
+    // at the shared vertex must (it runs outside the island).
+    std::vector<DirectedEdge> e;
+    add_ring(e, square(0, 0, 10));
+    add_ring(e, square(2, 2, 6), true);
+    add_ring(e, {{2, 2}, {5, 4}, {8, 2}, {6, 5}, {8, 8}, {5, 6}, {2, 8}, {4, 5}});
+    EXPECT_EQ(assembled(e), "MULTIPOLYGON (((0 0, 10 0, 10 10, 0 10, 0 0), (2 2, 2 8, 8 8, 8 2, 2 2)),"
+                            " ((2 2, 5 4, 8 2, 6 5, 8 8, 5 6, 2 8, 4 5, 2 2)))");
+}
+
+TEST(Assemble, HoleTouchingItsShellTwiceSplitsThePolygon)
+{
+    // A diamond hole touching the square shell at four vertices leaves four corner triangles.
+    std::vector<DirectedEdge> e;
+    add_ring(e, {{0, 0}, {1, 0}, {2, 0}, {2, 1}, {2, 2}, {1, 2}, {0, 2}, {0, 1}});
+    add_ring(e, {{1, 0}, {2, 1}, {1, 2}, {0, 1}}, true);
+    const Geometry g = assemble_polygons(e, false);
+    EXPECT_EQ(g.polygons.size(), 4u) << wkt_of(g);
+    for (const Polygon& p : g.polygons) {
+        EXPECT_EQ(p.rings.size(), 1u) << wkt_of(g);
+    }
+}
+
+TEST(Assemble, RepeatedAndZeroLengthEdgesAreIgnored)
+{
+    std::vector<DirectedEdge> e;
+    add_ring(e, square(0, 0, 1));
+    e.push_back(e.front());
+    e.push_back(DirectedEdge{{5, 5}, {5, 5}});
+    EXPECT_EQ(assembled(e), "POLYGON ((0 0, 1 0, 1 1, 0 1, 0 0))");
+}
+
+TEST(Assemble, LinesStartAtTheirPartStartsAndSpliceLoops)
+{
+    // A line through (1,0) twice: 0,0 -> 1,0 -> 1,1 -> 2,1 -> 1,0 -> 3,0.
+    std::vector<DirectedEdge> e{{{0, 0}, {1, 0}}, {{1, 0}, {1, 1}}, {{1, 1}, {2, 1}}, {{2, 1}, {1, 0}}, {{1, 0}, {3, 0}}};
+    std::mt19937 rng(3);
+    std::shuffle(e.begin(), e.end(), rng);
+    const Geometry g = assemble_lines(e, {{0, 0}}, false);
+    EXPECT_EQ(wkt_of(g), "LINESTRING (0 0, 1 0, 1 1, 2 1, 1 0, 3 0)");
+}
+
+// Near-collinear triples where a double cross product gets the sign wrong: the exact
+// orientation must agree with CGAL's exact kernel on every one.
+TEST(Predicates, OrientationAgreesWithTheExactKernel)
+{
+    using Exact = CGAL::Exact_predicates_exact_constructions_kernel;
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(0, 1);
+    int disagreements_with_doubles = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const Coord p{0.5 + 1e-17 * u(rng), 0.5 + 1e-17 * u(rng)};
+        const Coord q{12 + u(rng) * 1e-14, 12 + u(rng) * 1e-14};
+        const Coord r{24 + u(rng) * 1e-13, 24 + u(rng) * 1e-13};
+        const auto exact = CGAL::orientation(Exact::Point_2(p.x, p.y), Exact::Point_2(q.x, q.y), Exact::Point_2(r.x, r.y));
+        const int expected = exact == CGAL::LEFT_TURN ? 1 : exact == CGAL::RIGHT_TURN ? -1 : 0;
+        ASSERT_EQ(orientation(p, q, r), expected) << i;
+        const double naive = (q.x - p.x) * (r.y - p.y) - (q.y - p.y) * (r.x - p.x);
+        disagreements_with_doubles += (naive > 0 ? 1 : naive < 0 ? -1 : 0) != expected;
+    }
+    EXPECT_GT(disagreements_with_doubles, 0) << "the sample must contain cases doubles get wrong";
+}
+
+TEST(Predicates, LocateInRingOnBoundaryInsideOutside)
+{
+    const std::vector<Coord> ring{{0, 0}, {4, 0}, {4, 4}, {0, 4}};
+    EXPECT_EQ(locate_in_ring(ring, {2, 2}), 1);
+    EXPECT_EQ(locate_in_ring(ring, {5, 2}), -1);
+    EXPECT_EQ(locate_in_ring(ring, {4, 2}), 0);
+    EXPECT_EQ(locate_in_ring(ring, {0, 0}), 0);
+    EXPECT_EQ(locate_in_ring(ring, {-1, 0}), -1); // on the line of a horizontal edge, outside
+    EXPECT_EQ(locate_in_ring(ring, {2, 4}), 0);
+    // A point 1 ulp inside a long edge.
+    const std::vector<Coord> thin{{0, 0}, {1e6, 1}, {0, 1}};
+    EXPECT_EQ(locate_in_ring(thin, {5e5, std::nextafter(0.5, 1.0)}), 1);
+    EXPECT_EQ(locate_in_ring(thin, {5e5, std::nextafter(0.5, 0.0)}), -1);
+}
+
+TEST(Predicates, DirectionOrderIsCounterClockwiseFromEast)
+{
+    const Coord v{0, 0};
+    const std::vector<Coord> ccw{{1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
+    for (std::size_t i = 0; i < ccw.size(); ++i) {
+        for (std::size_t j = 0; j < ccw.size(); ++j) {
+            EXPECT_EQ(direction_less(v, ccw[i], ccw[j]), i < j) << i << " " << j;
+        }
+    }
+}
+
+// The engine's output, cut into its directed ring edges and shuffled, assembles to itself.
+TEST(Assemble, EngineOutputReassemblesToItself)
+{
+    std::istringstream text("1;POLYGON((0 0,10 0,10 10,0 10,0 0),(2 2,4 2,4 4,2 4,2 2))\n"
+                            "2;POLYGON((10 0,20 0,20 10,10 10.004,10 0))\n"
+                            "3;MULTIPOLYGON(((30 0,40 0,40 10,30 10,30 0),(31 1,39 1,39 9,31 9,31 1)),"
+                            "((32 2,38 2,38 8,32 8,32 2)))\n");
+    const std::vector<Feature> input = read_wkt_features(text);
+    const SnapResult r = snap(input, options_at(0.01));
+    for (const FeatureOutput& f : r.features) {
+        std::vector<DirectedEdge> edges;
+        for (const Polygon& p : f.geometry.polygons) {
+            for (const Path& ring : p.rings) {
+                for (std::size_t i = 0; i + 1 < ring.size(); ++i) {
+                    edges.push_back(DirectedEdge{ring[i], ring[i + 1]});
+                }
+            }
+        }
+        EXPECT_EQ(assembled(edges, 11), wkt_of(f.geometry)) << f.id;
+    }
+}
+
+} // namespace
+} // namespace trisnap

@@ -1,409 +1,360 @@
 #include "stitch/tiled_snap.hpp"
 
-#include "core/input_cleaning.hpp"
-#include "core/outcome.hpp"
-#include "core/assemble.hpp"
-#include "stitch/edges.hpp"
-#include "tiling/tile_job.hpp"
+#include "stitch/seams.hpp"
+#include "stitch/tile_run.hpp"
 
 #include <tbb/info.h>
-#include <tbb/parallel_for.h>
+#include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <map>
-#include <numeric>
-#include <set>
+#include <condition_variable>
+#include <limits>
+#include <mutex>
 #include <stdexcept>
 
 namespace trisnap::stitch {
 namespace {
 
-using tiling::Box;
-using tiling::TileOutcome;
+const std::string k_notes = "notes.bin"; ///< 301s of the seam rounds so far
 
 double seconds_since(std::chrono::steady_clock::time_point t0)
 {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-Box box_of_clean(const detail::CleanFeature& cf)
-{
-    Box b;
-    for (const auto& r : cf.rings)
-        for (const Coord& c : r.points) b.add(c.x, c.y);
-    for (const auto& l : cf.lines)
-        for (const Coord& c : l) b.add(c.x, c.y);
-    return b;
-}
-
-struct Groups {
-    std::vector<std::size_t> of_leaf;              ///< group id per plan leaf
-    std::vector<std::vector<std::size_t>> leaves;  ///< leaves per group id (empty: merged away)
-};
-
-class Stitcher {
+// Bytes reserved by the tiles in flight; a tile waits until its estimate fits in the pool.
+class MemoryGate {
 public:
-    Stitcher(const std::vector<Feature>& features, const SnapOptions& options, const TilingOptions& tiling)
-        : m_features(features), m_options(options), m_tiling(tiling) {}
-
-    TiledResult run(const TileProgress& progress);
+    explicit MemoryGate(std::uint64_t pool) : m_pool(pool) {}
+    void acquire(std::uint64_t bytes)
+    {
+        if (m_pool == 0) {
+            return;
+        }
+        std::unique_lock lock(m_mutex);
+        m_free.wait(lock, [&] { return m_used == 0 || m_used + bytes <= m_pool; });
+        m_used += bytes;
+    }
+    void release(std::uint64_t bytes)
+    {
+        if (m_pool == 0) {
+            return;
+        }
+        {
+            const std::lock_guard lock(m_mutex);
+            m_used -= bytes;
+        }
+        m_free.notify_all();
+    }
 
 private:
-    std::size_t owner_group(double x, double y) const { return m_groups.of_leaf[m_plan.leaf_of(x, y)]; }
-    bool in_extent(double x, double y) const
-    {
-        const Box& e = m_plan.extent();
-        return e.xmin <= x && x <= e.xmax && e.ymin <= y && y <= e.ymax;
-    }
-    tiling::TileJob job_for(std::size_t group) const;
-    /// Groups within 2t of the edge, when there are several (else empty).
-    void seam_groups(const Edge& e, std::vector<std::size_t>& groups) const;
-    std::vector<std::pair<std::size_t, std::size_t>> check_seams();
-    void merge(const std::vector<std::pair<std::size_t, std::size_t>>& pairs, std::vector<std::size_t>& pending);
-    void assemble(TiledResult& out);
-
-    const std::vector<Feature>& m_features;
-    const SnapOptions& m_options;
-    const TilingOptions& m_tiling;
-    std::vector<detail::CleanFeature> m_clean;
-    std::vector<bool> m_has_z;
-    std::vector<Box> m_boxes;
-    tiling::TilePlan m_plan;
-    Groups m_groups;
-    std::map<std::size_t, TileOutcome> m_outcomes; ///< by group id
-    std::map<std::size_t, std::size_t> m_runs;     ///< runs per leaf set (by group's first leaf)
-    std::map<std::size_t, double> m_merged_halo;   ///< a merged tile starts from the widest halo its parts had
-    std::vector<Problem> m_problems;
-    StitchStats m_stats;
-    double m_seam = 0; ///< band width around seams
+    std::uint64_t m_pool;
+    std::uint64_t m_used = 0;
+    std::mutex m_mutex;
+    std::condition_variable m_free;
 };
 
-tiling::TileJob Stitcher::job_for(std::size_t group) const
+std::string encode_notes(const std::vector<std::pair<std::uint64_t, Problem>>& notes)
 {
-    tiling::TileJob job;
-    job.group = group;
-    Region region{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-                  -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
-    for (std::size_t leaf : m_groups.leaves[group]) {
-        const Region& r = m_plan.core(leaf);
-        job.core.add(tiling::clip(r, m_plan.extent()));
-        region.xmin = std::min(region.xmin, r.xmin), region.ymin = std::min(region.ymin, r.ymin);
-        region.xmax = std::max(region.xmax, r.xmax), region.ymax = std::max(region.ymax, r.ymax);
+    std::string bytes;
+    tiling::ByteWriter w(bytes);
+    w.put<std::uint64_t>(notes.size());
+    for (const auto& [rank, p] : notes) {
+        w.put(rank);
+        tiling::put_problem(w, p);
     }
-    job.report_region = region;
-    job.halo = m_tiling.halo_factor * m_options.tolerance;
-    if (auto it = m_merged_halo.find(group); it != m_merged_halo.end()) job.halo = std::max(job.halo, it->second);
-    return job;
+    return bytes;
 }
 
-void Stitcher::seam_groups(const Edge& e, std::vector<std::size_t>& groups) const
+std::vector<std::pair<std::uint64_t, Problem>> decode_notes(const std::string& bytes)
 {
-    groups.clear();
-    Box b;
-    b.add(e.a.x, e.a.y), b.add(e.b.x, e.b.y);
-    std::vector<std::size_t> leaves;
-    m_plan.query(b.expanded(m_seam), leaves);
-    for (std::size_t leaf : leaves) groups.push_back(m_groups.of_leaf[leaf]);
-    std::sort(groups.begin(), groups.end());
-    groups.erase(std::unique(groups.begin(), groups.end()), groups.end());
-    if (groups.size() < 2) groups.clear();
-}
-
-// Per group: X = edges it produced near a seam with another group, Y = edges the stitched
-// layer holds there. Any difference names the pair of groups to merge.
-std::vector<std::pair<std::size_t, std::size_t>> Stitcher::check_seams()
-{
-    std::map<std::size_t, std::vector<Edge>> produced, stitched;
-    // Per tile in parallel: its edges near a seam, and those it owns with the tiles they face.
-    struct Near {
-        std::vector<Edge> produced;
-        std::vector<std::pair<Edge, std::vector<std::size_t>>> owned;
-    };
-    std::vector<std::pair<std::size_t, const TileOutcome*>> list;
-    for (auto& [g, oc] : m_outcomes) list.emplace_back(g, &oc);
-    std::vector<Near> near(list.size());
-    const int threads = m_tiling.threads > 0 ? m_tiling.threads : tbb::info::default_concurrency();
-    tbb::task_arena(threads).execute([&] {
-        tbb::parallel_for(std::size_t{0}, list.size(), [&](std::size_t i) {
-            const auto [g, oc] = list[i];
-            std::vector<Edge> edges;
-            std::vector<std::size_t> groups;
-            for (std::size_t k = 0; k < oc->result.features.size(); ++k) {
-                edges.clear();
-                edges_of(oc->result.features[k].geometry, static_cast<std::uint32_t>(oc->source[k]), edges);
-                for (const Edge& e : edges) {
-                    seam_groups(e, groups);
-                    if (groups.empty() || !std::binary_search(groups.begin(), groups.end(), g)) continue;
-                    near[i].produced.push_back(e);
-                    if (in_extent(e.mx(), e.my()) && owner_group(e.mx(), e.my()) == g) near[i].owned.emplace_back(e, groups);
-                }
-            }
-        });
-    });
-    for (std::size_t i = 0; i < list.size(); ++i) {
-        produced[list[i].first] = std::move(near[i].produced);
-        for (const auto& [e, groups] : near[i].owned)
-            for (std::size_t h : groups) stitched[h].push_back(e);
+    tiling::ByteReader r(bytes, "notes");
+    std::vector<std::pair<std::uint64_t, Problem>> notes(r.get<std::uint64_t>());
+    for (auto& [rank, p] : notes) {
+        rank = r.get<std::uint64_t>();
+        p = tiling::get_problem(r);
     }
-    std::set<std::pair<std::size_t, std::size_t>> pairs;
-    for (auto& [g, oc] : m_outcomes) {
-        std::vector<Edge>& x = produced[g];
-        std::vector<Edge>& y = stitched[g];
-        std::sort(x.begin(), x.end()), std::sort(y.begin(), y.end());
-        if (x == y) continue;
-        std::vector<Edge> only_x, only_y;
-        std::set_difference(x.begin(), x.end(), y.begin(), y.end(), std::back_inserter(only_x));
-        std::set_difference(y.begin(), y.end(), x.begin(), x.end(), std::back_inserter(only_y));
-        std::size_t before = pairs.size();
-        const Edge* first = nullptr;
-        for (const Edge& e : only_x)
-            if (in_extent(e.mx(), e.my()))
-                if (std::size_t o = owner_group(e.mx(), e.my()); o != g) pairs.emplace(std::min(o, g), std::max(o, g)), first = first ? first : &e;
-        for (const Edge& e : only_y)
-            if (std::size_t o = owner_group(e.mx(), e.my()); o != g) pairs.emplace(std::min(o, g), std::max(o, g)), first = first ? first : &e;
-        if (pairs.size() > before && first)
-            m_problems.push_back(Problem{m_clean[first->feature].id, ProblemCode::seam_mismatch,
-                "tiles disagreed along a seam (" + std::to_string(only_x.size() + only_y.size()) +
-                " edges); they were merged and snapped again", first->mx(), first->my()});
-    }
-    return {pairs.begin(), pairs.end()};
-}
-
-void Stitcher::merge(const std::vector<std::pair<std::size_t, std::size_t>>& pairs, std::vector<std::size_t>& pending)
-{
-    std::map<std::size_t, std::size_t> parent;
-    auto find = [&](std::size_t x) {
-        while (parent.count(x) && parent[x] != x) x = parent[x];
-        return x;
-    };
-    for (auto [a, b] : pairs) {
-        const std::size_t ra = find(a), rb = find(b);
-        if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb), parent.try_emplace(std::min(ra, rb), std::min(ra, rb));
-    }
-    std::map<std::size_t, std::vector<std::size_t>> merged; // root -> old groups
-    for (auto& [g, p] : parent) merged[find(g)].push_back(g);
-    pending.clear();
-    for (auto& [root, olds] : merged) {
-        const std::size_t id = m_groups.leaves.size();
-        std::vector<std::size_t> leaves;
-        double halo = 0;
-        for (std::size_t g : olds) {
-            leaves.insert(leaves.end(), m_groups.leaves[g].begin(), m_groups.leaves[g].end());
-            m_groups.leaves[g].clear();
-            if (auto it = m_outcomes.find(g); it != m_outcomes.end()) halo = std::max(halo, it->second.halo), m_outcomes.erase(it);
-        }
-        std::sort(leaves.begin(), leaves.end());
-        for (std::size_t leaf : leaves) m_groups.of_leaf[leaf] = id;
-        m_groups.leaves.push_back(std::move(leaves));
-        pending.push_back(id);
-        m_stats.seam_merges += olds.size() - 1;
-        m_merged_halo[id] = halo;
-    }
-}
-
-void Stitcher::assemble(TiledResult& out)
-{
-    SnapResult& res = out.result;
-    const std::size_t n = m_clean.size();
-    std::vector<std::vector<Edge>> owned(n);
-    std::vector<std::vector<std::size_t>> contributors(n);
-    std::vector<const FeatureOutput*> whole(n, nullptr);
-    std::vector<double> moved(n, 0.0);
-    std::vector<Edge> edges;
-    std::map<std::pair<std::int64_t, int>, Problem> located; // (feature id, code) -> smallest place
-    for (auto& [g, oc] : m_outcomes) {
-        TileReport rep;
-        rep.id = m_groups.leaves[g].front();
-        rep.leaves = m_groups.leaves[g].size();
-        rep.halo = oc.halo;
-        rep.growths = oc.growths;
-        rep.features = oc.source.size();
-        rep.input_vertices = oc.input_vertices;
-        rep.seconds = oc.seconds;
-        rep.runs = m_runs[rep.id];
-        for (std::size_t leaf : m_groups.leaves[g]) rep.core.add(tiling::clip(m_plan.core(leaf), m_plan.extent()));
-        res.stats += oc.result.stats;
-        for (std::size_t k = 0; k < oc.result.features.size(); ++k) {
-            const std::size_t f = oc.source[k];
-            const FeatureOutput& fo = oc.result.features[k];
-            moved[f] = std::max(moved[f], fo.max_displacement);
-            edges.clear();
-            edges_of(fo.geometry, static_cast<std::uint32_t>(f), edges);
-            std::size_t mine = 0;
-            for (const Edge& e : edges)
-                if (in_extent(e.mx(), e.my()) && owner_group(e.mx(), e.my()) == g) owned[f].push_back(e), ++mine;
-            rep.output_edges_owned += mine;
-            if (mine > 0) contributors[f].push_back(g);
-            if (mine > 0 && mine == edges.size() && oc.intact[k]) whole[f] = &fo;
-        }
-        for (const Problem& p : oc.result.problems) {
-            const int code = static_cast<int>(p.code);
-            if (code != 105 && code != 205 && code != 207 && code != 209) continue; // the rest is recomputed
-            if (code != 105 && owner_group(p.x, p.y) != g) continue;
-            ++rep.problems;
-            auto [it, added] = located.try_emplace({p.feature_id, code}, p);
-            if (!added && std::tie(p.x, p.y) < std::tie(it->second.x, it->second.y)) it->second = p;
-        }
-        out.tiles.push_back(rep);
-    }
-    // Per-input counts are global, not sums over tiles.
-    res.stats.input_features = m_features.size();
-    res.stats.input_vertices = m_plan.input_vertices();
-    res.stats.collapsed_features = 0;
-    res.stats.max_displacement = 0;
-    res.stats.output_vertices = 0;
-    std::map<std::int64_t, std::size_t> index_of_id;
-    for (std::size_t f = 0; f < n; ++f) index_of_id.emplace(m_clean[f].id, f);
-    for (auto& [key, p] : located) {
-        if (p.code == ProblemCode::self_intersection) { // placed where the engine places it
-            const detail::CleanFeature& cf = m_clean[index_of_id.at(p.feature_id)];
-            if (!cf.rings.empty()) p.x = cf.rings[0].points[0].x, p.y = cf.rings[0].points[0].y;
-        }
-        m_problems.push_back(p);
-    }
-    // Features cut by seams are rebuilt in parallel (each on its own; the order of work
-    // changes nothing), the rest is copied.
-    std::vector<std::size_t> cut;
-    for (std::size_t f = 0; f < n; ++f)
-        if (!m_clean[f].rejected && !(contributors[f].size() == 1 && whole[f]) && !owned[f].empty()) cut.push_back(f);
-    std::vector<Geometry> rebuilt(cut.size());
-    const int threads = m_tiling.threads > 0 ? m_tiling.threads : tbb::info::default_concurrency();
-    tbb::task_arena(threads).execute([&] {
-        tbb::parallel_for(std::size_t{0}, cut.size(), [&](std::size_t k) {
-            const std::size_t f = cut[k];
-            const detail::CleanFeature& cf = m_clean[f];
-            const bool has_z = m_features[cf.index].geometry.has_z;
-            std::vector<DirectedEdge> edges;
-            edges.reserve(owned[f].size());
-            for (const Edge& e : owned[f]) {
-                edges.push_back(DirectedEdge{e.a, e.b});
-            }
-            if (cf.polygonal) {
-                rebuilt[k] = assemble_polygons(std::move(edges), has_z);
-            } else {
-                std::vector<Coord> starts;
-                for (const auto& line : cf.lines) {
-                    starts.push_back(round_to_grid(line.front(), m_options.grid));
-                }
-                rebuilt[k] = assemble_lines(std::move(edges), starts, has_z);
-            }
-        });
-    });
-    std::size_t next_cut = 0;
-    for (std::size_t f = 0; f < n; ++f) {
-        const detail::CleanFeature& cf = m_clean[f];
-        FeatureOutput& fo = res.features[cf.index];
-        fo.id = cf.id;
-        if (cf.rejected) continue;
-        const bool has_z = m_features[cf.index].geometry.has_z;
-        if (next_cut < cut.size() && cut[next_cut] == f) {
-            fo.geometry = std::move(rebuilt[next_cut++]);
-            ++m_stats.assembled_features;
-        } else if (contributors[f].size() == 1 && whole[f]) {
-            fo.geometry = whole[f]->geometry;
-            ++m_stats.copied_features;
-        }
-        fo.geometry.has_z = has_z;
-        fo.max_displacement = moved[f];
-        res.stats.max_displacement = std::max(res.stats.max_displacement, moved[f]);
-        for (const Polygon& p : fo.geometry.polygons)
-            for (const Path& r : p.rings) res.stats.output_vertices += r.size() - 1;
-        for (const Path& l : fo.geometry.lines) res.stats.output_vertices += l.size();
-        if (detail::outcome_problems(cf, fo.geometry, moved[f], m_options, m_problems)) ++res.stats.collapsed_features;
-    }
-}
-
-TiledResult Stitcher::run(const TileProgress& progress)
-{
-    TiledResult out;
-    SnapResult& res = out.result;
-    res.features.resize(m_features.size());
-    for (std::size_t i = 0; i < m_features.size(); ++i) {
-        res.features[i].id = m_features[i].id;
-        res.features[i].geometry.has_z = m_features[i].geometry.has_z;
-    }
-    m_clean = detail::clean_input(m_features, m_options.tolerance, m_problems);
-    for (const detail::CleanFeature& cf : m_clean) {
-        m_has_z.push_back(m_features[cf.index].geometry.has_z);
-        m_boxes.push_back(box_of_clean(cf));
-    }
-    m_plan = tiling::make_plan(m_features, m_tiling.plan);
-    m_seam = 2 * m_options.tolerance + 4 * m_options.grid;
-    m_stats.leaves = m_plan.size();
-    m_groups.of_leaf.resize(m_plan.size());
-    std::vector<std::size_t> pending;
-    for (std::size_t leaf = 0; leaf < m_plan.size(); ++leaf) {
-        m_groups.of_leaf[leaf] = leaf;
-        m_groups.leaves.push_back({leaf});
-        // Leaves without data (grid cells off the extent) run nothing.
-        if (!tiling::clip(m_plan.core(leaf), m_plan.extent()).empty()) pending.push_back(leaf);
-    }
-    const tiling::JobContext ctx{m_clean, m_has_z, m_boxes, m_options, m_tiling.max_growth};
-    for (;;) {
-        // The biggest tiles start first, so the last ones to finish are small (the order of
-        // jobs changes nothing in the output).
-        std::vector<std::pair<std::size_t, std::size_t>> order; // (-size, group)
-        for (std::size_t g : pending) {
-            std::size_t n = 0;
-            for (std::size_t leaf : m_groups.leaves[g]) n += m_plan.leaf_vertices(leaf);
-            order.emplace_back(n, g);
-        }
-        std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-        std::vector<tiling::TileJob> jobs;
-        for (const auto& [n, g] : order) jobs.push_back(job_for(g));
-        const auto t0 = std::chrono::steady_clock::now();
-        std::size_t done = 0;
-        std::vector<TileOutcome> results = tiling::run_jobs(ctx, jobs, m_tiling.threads, [&](const TileOutcome&) {
-            if (progress) progress(++done, jobs.size());
-        });
-        m_stats.seconds_tiles += seconds_since(t0);
-        m_stats.tile_runs += jobs.size();
-        for (TileOutcome& oc : results) {
-            ++m_runs[m_groups.leaves[oc.group].front()];
-            if (oc.growths > 0) {
-                m_stats.halo_growths += static_cast<std::size_t>(oc.growths);
-                m_problems.push_back(Problem{oc.cascade_feature, ProblemCode::seam_cascade,
-                    "a cascade of snaps reached the tile core from its halo; the halo grew to " +
-                    std::to_string(oc.halo / m_options.tolerance) + " x tolerance" +
-                    (oc.cascade_unbounded ? " and the cascade still reached it (left to the seam check)" : ""),
-                    oc.cascade_x, oc.cascade_y});
-            }
-            m_stats.unbounded_cascades += oc.cascade_unbounded ? 1 : 0;
-            m_outcomes[oc.group] = std::move(oc);
-        }
-        const auto t1 = std::chrono::steady_clock::now();
-        const auto pairs = check_seams();
-        m_stats.seconds_stitch += seconds_since(t1);
-        if (pairs.empty()) break;
-        merge(pairs, pending);
-    }
-    const auto t2 = std::chrono::steady_clock::now();
-    assemble(out);
-    m_stats.tiles = m_outcomes.size();
-    m_stats.seconds_stitch += seconds_since(t2);
-    std::stable_sort(m_problems.begin(), m_problems.end(), [](const Problem& a, const Problem& b) {
-        return a.feature_id != b.feature_id ? a.feature_id < b.feature_id : a.code < b.code;
-    });
-    res.problems = std::move(m_problems);
-    out.stitch = m_stats;
-    return out;
+    return notes;
 }
 
 } // namespace
 
+struct TiledRun::Impl {
+    Impl(tiling::WorkStore& s, const SnapOptions& o, const TilingOptions& t, const ScheduleOptions& sc)
+        : store(s), options(o), tiling(t), schedule(sc)
+    {
+    }
+    int threads() const { return schedule.threads > 0 ? schedule.threads : tbb::info::default_concurrency(); }
+    void save_groups();
+    void run_groups(std::vector<std::size_t> pending, const TileProgress& progress);
+    std::uint64_t max_tile_vertices() const;
+
+    tiling::WorkStore& store;
+    SnapOptions options;
+    TilingOptions tiling;
+    ScheduleOptions schedule;
+    SpoolMeta meta;
+    TileLayout layout;
+    Groups groups;
+    std::vector<std::pair<std::uint64_t, Problem>> notes;
+    StitchStats stats;
+};
+
+void TiledRun::Impl::save_groups()
+{
+    std::string bytes;
+    tiling::ByteWriter w(bytes);
+    groups.save(w);
+    store.put(k_notes, encode_notes(notes));
+    store.put(files::groups, bytes);
+}
+
+// The largest tile the pool can hold alone (each tile must fit; tiles bigger than a share of
+// the pool just run with fewer beside them).
+std::uint64_t TiledRun::Impl::max_tile_vertices() const
+{
+    return schedule.memory_pool == 0 ? 0 : std::max<std::uint64_t>(schedule.model.vertices_within(schedule.memory_pool), 1);
+}
+
+// Biggest first (the last to finish are small); at most 2 x threads in the pipeline and, with
+// a pool, only as many running as their estimates fit. Results do not depend on the order.
+void TiledRun::Impl::run_groups(std::vector<std::size_t> pending, const TileProgress& progress)
+{
+    const TileRunner runner(store, layout, groups, meta, options, tiling.max_growth);
+    std::vector<std::pair<std::uint64_t, std::size_t>> order;
+    std::uint64_t total = 0;
+    for (std::size_t g : pending) {
+        order.emplace_back(runner.vertices(g), g);
+        total += runner.vertices(g);
+    }
+    std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    if (schedule.memory_pool > 0) {
+        for (const auto& [n, g] : order) {
+            if (schedule.model.tile_bytes(n) > schedule.memory_pool) {
+                throw budget_error("tile " + std::to_string(groups.leaves[g].front()) + " (" + std::to_string(groups.leaves[g].size()) +
+                                       " leaves merged at a seam) needs " + std::to_string(n) + " vertices in one triangulation",
+                                   n);
+            }
+        }
+    }
+    MemoryGate gate(schedule.memory_pool);
+    const auto t0 = std::chrono::steady_clock::now();
+    std::size_t next = 0;
+    std::uint64_t done = 0;
+    const int n = threads();
+    tbb::task_arena arena(n);
+    arena.execute([&] {
+        tbb::parallel_pipeline(
+            static_cast<std::size_t>(2 * n),
+            tbb::make_filter<void, std::size_t>(tbb::filter_mode::serial_in_order,
+                                                [&](tbb::flow_control& fc) -> std::size_t {
+                                                    if (schedule.check_cancel) {
+                                                        schedule.check_cancel();
+                                                    }
+                                                    if (next >= order.size()) {
+                                                        fc.stop();
+                                                        return 0;
+                                                    }
+                                                    return next++;
+                                                }) &
+                tbb::make_filter<std::size_t, std::size_t>(tbb::filter_mode::parallel,
+                                                           [&](std::size_t k) {
+                                                               const std::uint64_t bytes = schedule.model.tile_bytes(order[k].first);
+                                                               gate.acquire(bytes);
+                                                               struct Release {
+                                                                   MemoryGate& gate;
+                                                                   std::uint64_t bytes;
+                                                                   ~Release() { gate.release(bytes); }
+                                                               } release{gate, bytes};
+                                                               runner.run(order[k].second);
+                                                               return k;
+                                                           }) &
+                tbb::make_filter<std::size_t, void>(tbb::filter_mode::serial_in_order, [&](std::size_t k) {
+                    ++groups.runs[order[k].second];
+                    ++stats.tile_runs;
+                    done += order[k].first;
+                    if (progress) {
+                        progress(done, total);
+                    }
+                }));
+    });
+    stats.seconds_tiles += seconds_since(t0);
+}
+
+TiledRun::TiledRun(tiling::WorkStore& store, const SnapOptions& options, const TilingOptions& tiling,
+                   const ScheduleOptions& schedule)
+    : m_impl(std::make_unique<Impl>(store, options, tiling, schedule))
+{
+}
+
+TiledRun::~TiledRun() = default;
+
+void TiledRun::plan(const SpoolMeta& meta, const PassProgress& progress)
+{
+    Impl& m = *m_impl;
+    m.meta = meta;
+    if (m.store.exists(files::layout) && m.store.exists(files::groups)) {
+        const std::string layout = m.store.get(files::layout);
+        tiling::ByteReader lr(layout, "layout");
+        m.layout = TileLayout::load(lr);
+        const std::string groups = m.store.get(files::groups);
+        tiling::ByteReader gr(groups, "groups");
+        m.groups = Groups::load(gr);
+        m.notes = decode_notes(m.store.get(k_notes));
+        return;
+    }
+    TilingOptions tiling = m.tiling;
+    BucketOptions bo;
+    bo.halo = tiling.halo_factor * m.options.tolerance;
+    bo.seam_band = 2 * m.options.tolerance + 4 * m.options.grid;
+    bo.max_tile_vertices = m.max_tile_vertices();
+    if (m.schedule.memory_pool > 0) {
+        // Tiles small enough for every thread to run one within the pool.
+        const std::uint64_t share = m.schedule.model.vertices_within(m.schedule.memory_pool / static_cast<std::uint64_t>(m.threads()));
+        tiling.plan.vertex_budget = std::min<std::size_t>(tiling.plan.vertex_budget, std::max<std::uint64_t>(share, 16));
+        bo.buffer_bytes = static_cast<std::size_t>(std::clamp<std::uint64_t>(m.schedule.memory_pool / 8, 1u << 20, 64u << 20));
+    }
+    m.layout = make_buckets(m.store, meta, tiling, bo, progress);
+    m.groups = Groups::of_layout(m.layout);
+    m.save_groups();
+}
+
+std::vector<std::size_t> TiledRun::missing() const
+{
+    std::vector<std::size_t> out;
+    for (std::size_t g : m_impl->groups.live(m_impl->layout)) {
+        if (!m_impl->store.exists(files::result(g)) || !m_impl->store.exists(files::seams(g))) {
+            out.push_back(g);
+        }
+    }
+    return out;
+}
+
+void TiledRun::snap(const TileProgress& progress, const std::function<bool(std::size_t)>& mine)
+{
+    std::vector<std::size_t> pending;
+    for (std::size_t g : missing()) {
+        if (!mine || mine(g)) {
+            pending.push_back(g);
+        }
+    }
+    m_impl->run_groups(std::move(pending), progress);
+}
+
+void TiledRun::stitch(const TileProgress& progress)
+{
+    Impl& m = *m_impl;
+    for (;;) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const SeamVerdict verdict = check_seams(m.store, m.layout, m.groups, m.threads());
+        m.stats.seconds_stitch += seconds_since(t0);
+        if (verdict.pairs.empty()) {
+            break;
+        }
+        m.notes.insert(m.notes.end(), verdict.problems.begin(), verdict.problems.end());
+        const std::vector<std::size_t> added = merge_groups(m.store, m.groups, verdict.pairs);
+        m.save_groups();
+        m.run_groups(added, progress);
+    }
+    m.save_groups();
+}
+
+std::unique_ptr<OutputMerger> TiledRun::output()
+{
+    Impl& m = *m_impl;
+    std::vector<std::pair<std::uint64_t, Problem>> notes = m.notes;
+    auto merger = std::make_unique<OutputMerger>(m.store, m.layout, m.groups, m.meta, m.options);
+    for (const TileReport& t : merger->tiles()) {
+        if (t.growths == 0) {
+            continue;
+        }
+        Problem p;
+        p.code = ProblemCode::seam_cascade;
+        p.message = "a cascade of snaps reached the tile core from its halo; the halo grew to " +
+                    std::to_string(t.halo / m.options.tolerance) + " x tolerance" +
+                    (t.cascade_unbounded ? " and the cascade still reached it (left to the seam check)" : "");
+        p.x = t.cascade_x;
+        p.y = t.cascade_y;
+        notes.emplace_back(t.cascade_rank, p);
+    }
+    merger->set_notes(std::move(notes));
+    return merger;
+}
+
+const TileLayout& TiledRun::layout() const { return m_impl->layout; }
+
+const Groups& TiledRun::groups() const { return m_impl->groups; }
+
+StitchStats TiledRun::stats() const
+{
+    StitchStats s = m_impl->stats;
+    s.leaves = m_impl->layout.plan.size();
+    s.tiles = m_impl->groups.live(m_impl->layout).size();
+    s.seam_merges = m_impl->groups.seam_merges;
+    return s;
+}
+
+std::string validate(const TilingOptions& tiling)
+{
+    if (!(tiling.halo_factor >= 2) || !std::isfinite(tiling.halo_factor)) {
+        return "halo factor must be finite and >= 2, got " + std::to_string(tiling.halo_factor);
+    }
+    if (tiling.plan.tile_size < 0 || !std::isfinite(tiling.plan.tile_size)) {
+        return "tile size must be finite and > 0, got " + std::to_string(tiling.plan.tile_size);
+    }
+    if (tiling.max_growth < 0) {
+        return "max halo growth must be >= 0";
+    }
+    return {};
+}
+
 TiledResult snap_tiled(const std::vector<Feature>& features, const SnapOptions& options, const TilingOptions& tiling,
                        const TileProgress& progress)
 {
-    if (const std::string msg = validate(options); !msg.empty()) throw std::invalid_argument(msg);
-    if (!(tiling.halo_factor >= 2) || !std::isfinite(tiling.halo_factor))
-        throw std::invalid_argument("halo factor must be finite and >= 2, got " + std::to_string(tiling.halo_factor));
-    if (tiling.plan.tile_size < 0 || !std::isfinite(tiling.plan.tile_size))
-        throw std::invalid_argument("tile size must be finite and > 0, got " + std::to_string(tiling.plan.tile_size));
-    if (tiling.max_growth < 0) throw std::invalid_argument("max halo growth must be >= 0");
-    return Stitcher(features, options, tiling).run(progress);
+    if (const std::string msg = validate(options); !msg.empty()) {
+        throw std::invalid_argument(msg);
+    }
+    if (const std::string msg = validate(tiling); !msg.empty()) {
+        throw std::invalid_argument(msg);
+    }
+    const std::unique_ptr<tiling::WorkStore> store = tiling::make_memory_store();
+    TiledResult out;
+    std::vector<Problem>& problems = out.result.problems;
+    FeatureSpool spool(*store, options.tolerance, std::numeric_limits<std::size_t>::max(), std::numeric_limits<std::size_t>::max());
+    for (std::size_t i = 0; i < features.size(); ++i) {
+        spool.add(i, features[i].id, features[i].geometry, problems);
+    }
+    const SpoolMeta meta = spool.finish();
+    ScheduleOptions schedule;
+    schedule.threads = tiling.threads;
+    TiledRun run(*store, options, tiling, schedule);
+    run.plan(meta);
+    run.snap(progress);
+    run.stitch(progress);
+    const std::unique_ptr<OutputMerger> merger = run.output();
+    out.result.features.resize(features.size());
+    OutputItem item;
+    while (merger->next(item)) {
+        out.result.features[item.seq] = std::move(item.output);
+        problems.insert(problems.end(), std::make_move_iterator(item.problems.begin()),
+                        std::make_move_iterator(item.problems.end()));
+    }
+    std::stable_sort(problems.begin(), problems.end(), [](const Problem& a, const Problem& b) {
+        return a.feature_id != b.feature_id ? a.feature_id < b.feature_id : a.code < b.code;
+    });
+    out.result.stats = merger->counts().stats;
+    out.tiles = merger->tiles();
+    out.stitch = run.stats();
+    out.stitch.copied_features = merger->counts().copied;
+    out.stitch.assembled_features = merger->counts().assembled;
+    for (const TileReport& t : out.tiles) {
+        out.stitch.halo_growths += static_cast<std::size_t>(t.growths);
+        out.stitch.unbounded_cascades += t.cascade_unbounded ? 1 : 0;
+    }
+    return out;
 }
 
 } // namespace trisnap::stitch

@@ -1,62 +1,94 @@
 #pragma once
-// Tiled snapping: plan tiles (tiling/plan), snap each with a halo in parallel (tiling/tile_job),
-// then stitch. Every output edge is owned by the tile whose half-open core holds its midpoint.
-// Seam check: along every seam, the edges each tile produced within 2t of the seam must be the
-// very edges the stitched layer holds there. Where they differ, the tiles on both sides are
-// merged into one and snapped again (problem 301), until no seam disagrees; then each vertex of
-// the stitched layer has exactly the neighbourhood one tile produced, so the contract that
-// holds in every tile holds in the stitched layer. A feature owned by one tile that had it whole
-// is copied; a feature cut by seams is rebuilt from its owned edges (core/assemble.hpp).
+// Tiled snapping over a work store (stitch/spool.hpp, tile_run.hpp, seams.hpp, output.hpp):
+//  plan    - the tile plan from the spooled sample, reach boxes, buckets (split to the budget);
+//  snap    - every tile without a result, in parallel on oneTBB, biggest first, with the tiles in
+//            flight bounded by a memory pool (each tile's estimate from its bucket's vertices);
+//  stitch  - the seam check; disagreeing tiles are merged and snapped again (problem 301) until
+//            every seam agrees: then each vertex of the stitched layer has exactly the
+//            neighbourhood one tile produced, so the contract that holds in every tile holds in
+//            the stitched layer;
+//  output  - the features in input order (OutputMerger).
+// Every phase leaves its files committed in the store, so a run can stop after any tile and
+// continue (resume, or another machine's shard) with the same result: results depend only on
+// the files, never on the order tiles ran in, the threads, or the machine.
+// snap_tiled() runs it all in memory on a vector of features (tests, benchmarks).
 #include "core/snap.hpp"
-#include "tiling/plan.hpp"
+#include "stitch/layout.hpp"
+#include "stitch/output.hpp"
+#include "stitch/spool.hpp"
+#include "stitch/tile_result.hpp"
+#include "tiling/work_store.hpp"
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace trisnap::stitch {
 
-struct TilingOptions {
-    tiling::PlanOptions plan;
-    /// Halo width as a factor of t. Cascades of snaps were seen to reach 9t (Monaco, 1e-6 deg)
-    /// and 16t (1e-5 deg); a cascade that reaches the core from the halo's border doubles it.
-    double halo_factor = 32;
-    /// How many times a tile's halo may double when the cascade test fires (0: no test). The
-    /// test is conservative (any chain of moved vertices within 2t links the halo's border to
-    /// the core): it fired on 2 of Monaco's 4 tiles at 1e-6 deg and doubled their cost, while
-    /// tiled output without it was 100 % identical to untiled on every layer measured (halo 4t
-    /// to 32t). So it is off by default; the seam check keeps the layer consistent either way.
-    int max_growth = 0;
-    /// Threads for tiles (0: all cores). The output does not depend on it.
-    int threads = 0;
+/// What a tile costs in memory: the engine's bytes per input vertex and a fixed part per tile.
+/// Calibrated with bench/memory_model (peak RSS of single tiles, see bench/README.md).
+struct MemoryModel {
+    double bytes_per_vertex = 1100;
+    std::uint64_t bytes_per_tile = 8u << 20;
+    std::uint64_t tile_bytes(std::uint64_t vertices) const
+    {
+        return bytes_per_tile + static_cast<std::uint64_t>(bytes_per_vertex * static_cast<double>(vertices));
+    }
+    /// The most vertices a tile may hold within `bytes`.
+    std::uint64_t vertices_within(std::uint64_t bytes) const
+    {
+        return bytes <= bytes_per_tile ? 0 : static_cast<std::uint64_t>(static_cast<double>(bytes - bytes_per_tile) / bytes_per_vertex);
+    }
 };
 
-/// One executed tile (after seam merges: one or more plan leaves).
-struct TileReport {
-    std::size_t id = 0;              ///< smallest plan leaf in it
-    std::size_t leaves = 1;          ///< plan leaves merged into it
-    tiling::Box core;                ///< finite box of its core(s)
-    double halo = 0;                 ///< final halo width (layer units)
-    int growths = 0;                 ///< halo doublings (cascades reaching the core)
-    std::size_t features = 0;        ///< features given to it (whole or cut)
-    std::size_t input_vertices = 0;
-    std::size_t output_edges_owned = 0;
-    std::size_t problems = 0;        ///< problems it reported in its core
-    double seconds = 0;              ///< wall time of its last run
-    std::size_t runs = 1;            ///< times snapped (seam merges run a tile again)
+struct ScheduleOptions {
+    int threads = 0;                   ///< 0: all cores
+    std::uint64_t memory_pool = 0;     ///< bytes the tiles in flight may take together; 0: no bound
+    MemoryModel model;
+    /// Called between tiles; throws to stop the run (e.g. on Ctrl-C).
+    std::function<void()> check_cancel;
 };
 
 struct StitchStats {
-    std::size_t leaves = 0;          ///< tiles in the plan
+    std::size_t leaves = 0;          ///< tiles in the plan (after splits)
     std::size_t tiles = 0;           ///< tiles in the end (after merges)
     std::size_t seam_merges = 0;     ///< tile pairs merged because a seam disagreed
     std::size_t halo_growths = 0;
     std::size_t unbounded_cascades = 0;
     std::size_t copied_features = 0;    ///< taken whole from one tile
     std::size_t assembled_features = 0; ///< rebuilt from edges of several tiles
-    std::size_t tile_runs = 0;
+    std::size_t tile_runs = 0;       ///< tiles snapped by this process
     double seconds_tiles = 0;        ///< wall time of the tile runs
     double seconds_stitch = 0;
+};
+
+/// Called serially after each tile run: (input vertices of the tiles done, of all tiles).
+using TileProgress = std::function<void(std::uint64_t, std::uint64_t)>;
+
+class TiledRun {
+public:
+    TiledRun(tiling::WorkStore& store, const SnapOptions& options, const TilingOptions& tiling,
+             const ScheduleOptions& schedule);
+    ~TiledRun();
+    /// Plans and fills the buckets, unless the store holds a plan already (resume); the tile
+    /// budget comes from the memory pool when there is one.
+    void plan(const SpoolMeta& meta, const PassProgress& progress = {});
+    /// Snaps every tile that has no result yet; `mine(group)` picks a share of them.
+    void snap(const TileProgress& progress = {}, const std::function<bool(std::size_t)>& mine = {});
+    /// Groups (tiles) that have no result yet.
+    std::vector<std::size_t> missing() const;
+    /// Seam check, merging and snapping again until every seam agrees.
+    void stitch(const TileProgress& progress = {});
+    /// The stitched features in input order (after stitch()).
+    std::unique_ptr<OutputMerger> output();
+    const TileLayout& layout() const;
+    const Groups& groups() const;
+    StitchStats stats() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
 };
 
 struct TiledResult {
@@ -65,11 +97,11 @@ struct TiledResult {
     StitchStats stitch;
 };
 
-/// Called serially after each tile run: (tiles done, tiles planned in this round).
-using TileProgress = std::function<void(std::size_t, std::size_t)>;
-
 /// Throws std::invalid_argument for unusable options (like snap()).
 TiledResult snap_tiled(const std::vector<Feature>& features, const SnapOptions& options, const TilingOptions& tiling,
                        const TileProgress& progress = {});
+
+/// Checks the tiling options; "" when usable, else a one-line reason.
+std::string validate(const TilingOptions& tiling);
 
 } // namespace trisnap::stitch

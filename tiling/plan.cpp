@@ -68,7 +68,83 @@ int TilePlan::add_leaf(const Region& r)
     leaf.leaf = m_cores.size();
     m_cores.push_back(r);
     m_nodes.push_back(leaf);
+    m_node_of_leaf.push_back(static_cast<int>(m_nodes.size() - 1));
     return static_cast<int>(m_nodes.size() - 1);
+}
+
+std::size_t TilePlan::split_leaf(std::size_t leaf, int axis, double value)
+{
+    const auto node = static_cast<std::size_t>(m_node_of_leaf[leaf]);
+    Region lower = m_cores[leaf];
+    Region upper = lower;
+    (axis == 0 ? lower.xmax : lower.ymax) = value;
+    (axis == 0 ? upper.xmin : upper.ymin) = value;
+    m_cores[leaf] = lower;
+    const int left = static_cast<int>(m_nodes.size());
+    m_nodes.push_back(Node{-1, 0, -1, -1, leaf});
+    m_node_of_leaf[leaf] = left;
+    const std::size_t added = m_cores.size();
+    const int right = add_leaf(upper);
+    m_nodes[node] = Node{axis, value, left, right, 0};
+    if (m_leaf_vertices.size() == added) {
+        m_leaf_vertices.push_back(0);
+    }
+    return added;
+}
+
+void TilePlan::save(ByteWriter& w) const
+{
+    w.put<std::uint32_t>(static_cast<std::uint32_t>(m_nodes.size()));
+    for (const Node& n : m_nodes) {
+        w.put<std::int32_t>(n.axis);
+        w.put(n.split);
+        w.put<std::int32_t>(n.left);
+        w.put<std::int32_t>(n.right);
+        w.put<std::uint64_t>(n.leaf);
+    }
+    w.put<std::uint32_t>(static_cast<std::uint32_t>(m_cores.size()));
+    for (std::size_t k = 0; k < m_cores.size(); ++k) {
+        const Region& c = m_cores[k];
+        for (double v : {c.xmin, c.ymin, c.xmax, c.ymax}) {
+            w.put(v);
+        }
+        w.put<std::int32_t>(m_node_of_leaf[k]);
+        w.put<std::uint64_t>(k < m_leaf_vertices.size() ? m_leaf_vertices[k] : 0);
+    }
+    for (double v : {m_extent.xmin, m_extent.ymin, m_extent.xmax, m_extent.ymax}) {
+        w.put(v);
+    }
+    w.put<std::uint64_t>(m_vertices);
+}
+
+TilePlan TilePlan::load(ByteReader& r)
+{
+    TilePlan plan;
+    plan.m_nodes.resize(r.get_count(28));
+    for (Node& n : plan.m_nodes) {
+        n.axis = r.get<std::int32_t>();
+        n.split = r.get<double>();
+        n.left = r.get<std::int32_t>();
+        n.right = r.get<std::int32_t>();
+        n.leaf = r.get<std::uint64_t>();
+    }
+    const std::uint32_t leaves = r.get_count(48);
+    for (std::uint32_t k = 0; k < leaves; ++k) {
+        Region c;
+        c.xmin = r.get<double>();
+        c.ymin = r.get<double>();
+        c.xmax = r.get<double>();
+        c.ymax = r.get<double>();
+        plan.m_cores.push_back(c);
+        plan.m_node_of_leaf.push_back(r.get<std::int32_t>());
+        plan.m_leaf_vertices.push_back(r.get<std::uint64_t>());
+    }
+    plan.m_extent.xmin = r.get<double>();
+    plan.m_extent.ymin = r.get<double>();
+    plan.m_extent.xmax = r.get<double>();
+    plan.m_extent.ymax = r.get<double>();
+    plan.m_vertices = r.get<std::uint64_t>();
+    return plan;
 }
 
 // Median split of the longer side of the vertices' box; the median value does not depend on
@@ -122,43 +198,65 @@ int TilePlan::build_grid(long c0, long c1, long r0, long r1, const Region& r, do
     return self;
 }
 
-TilePlan make_plan(const std::vector<Feature>& features, const PlanOptions& options)
+// The balanced plan is built on the sample with the budget scaled to it: with every vertex in
+// the sample (level 0) it is the exact median k-d tree of the input vertices.
+TilePlan make_plan(PlanInput input, const PlanOptions& options)
 {
     TilePlan plan;
-    std::vector<double> xs, ys;
-    auto for_each_vertex = [&](auto&& visit) {
-        for (const Feature& f : features) {
-            for (const Polygon& p : f.geometry.polygons)
-                for (const Path& r : p.rings)
-                    for (const Coord& c : r)
-                        if (std::isfinite(c.x) && std::isfinite(c.y)) visit(c);
-            for (const Path& l : f.geometry.lines)
-                for (const Coord& c : l)
-                    if (std::isfinite(c.x) && std::isfinite(c.y)) visit(c);
-        }
-    };
-    for_each_vertex([&](const Coord& c) {
-        plan.m_extent.add(c.x, c.y);
-        ++plan.m_vertices;
-        if (!options.single && options.tile_size <= 0) xs.push_back(c.x), ys.push_back(c.y);
-    });
+    plan.m_extent = input.extent;
+    plan.m_vertices = input.vertices;
     const Region everything;
     if (options.single || plan.m_extent.empty()) {
         plan.add_leaf(everything);
     } else if (options.tile_size > 0) {
         const double s = options.tile_size;
-        const double ox = std::floor(plan.m_extent.xmin / s) * s, oy = std::floor(plan.m_extent.ymin / s) * s;
+        const double ox = std::floor(plan.m_extent.xmin / s) * s;
+        const double oy = std::floor(plan.m_extent.ymin / s) * s;
         const double cols = std::max(1.0, std::ceil((plan.m_extent.xmax - ox) / s + 1e-12));
         const double rows = std::max(1.0, std::ceil((plan.m_extent.ymax - oy) / s + 1e-12));
-        if (cols * rows > 1e6)
+        if (!(cols * rows <= 1e6)) {
             throw std::invalid_argument("tile size " + std::to_string(s) + " would make " + std::to_string(cols * rows) +
                                         " tiles (more than 10^6); choose a larger --tile-size");
+        }
         plan.build_grid(0, static_cast<long>(cols), 0, static_cast<long>(rows), everything, s, ox, oy);
     } else {
-        plan.build_balanced(xs, ys, 0, xs.size(), everything, std::max<std::size_t>(options.vertex_budget, 16), 0);
+        const std::size_t budget = std::max<std::size_t>(options.vertex_budget, 16) >> input.level;
+        plan.build_balanced(input.xs, input.ys, 0, input.xs.size(), everything, std::max<std::size_t>(budget, 1), 0);
     }
     plan.m_leaf_vertices.assign(plan.size(), 0);
-    for_each_vertex([&](const Coord& c) { ++plan.m_leaf_vertices[plan.leaf_of(c.x, c.y)]; });
+    return plan;
+}
+
+TilePlan make_plan(const std::vector<Feature>& features, const PlanOptions& options)
+{
+    PlanInput input;
+    auto for_each_vertex = [&](auto&& visit) {
+        for (const Feature& f : features) {
+            for (const Polygon& p : f.geometry.polygons) {
+                for (const Path& r : p.rings) {
+                    std::for_each(r.begin(), r.end(), visit);
+                }
+            }
+            std::for_each(f.geometry.lines.begin(), f.geometry.lines.end(),
+                          [&](const Path& l) { std::for_each(l.begin(), l.end(), visit); });
+        }
+    };
+    for_each_vertex([&](const Coord& c) {
+        if (std::isfinite(c.x) && std::isfinite(c.y)) {
+            input.extent.add(c.x, c.y);
+            ++input.vertices;
+            input.xs.push_back(c.x);
+            input.ys.push_back(c.y);
+        }
+    });
+    TilePlan plan = make_plan(std::move(input), options);
+    std::vector<std::size_t> counts(plan.size(), 0);
+    for_each_vertex([&](const Coord& c) {
+        if (std::isfinite(c.x) && std::isfinite(c.y)) {
+            ++counts[plan.leaf_of(c.x, c.y)];
+        }
+    });
+    plan.set_leaf_vertices(std::move(counts));
     return plan;
 }
 

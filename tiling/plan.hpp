@@ -7,6 +7,7 @@
 // Outer tiles extend to infinity, so every point of the plane has an owner.
 #include "core/geometry.hpp"
 #include "core/snap.hpp"
+#include "tiling/binary_io.hpp"
 
 #include <cstddef>
 #include <vector>
@@ -29,6 +30,17 @@ Box box_of(const Geometry& g);
 /// The finite part of a region clipped to `extent` (closed).
 Box clip(const Region& r, const Box& extent);
 
+/// What a plan is made from: the extent and number of the input vertices, and a sample of
+/// them (every vertex when `level` is 0; else each sampled vertex stands for 2^level vertices,
+/// see tiling/sample.hpp).
+struct PlanInput {
+    Box extent;
+    std::size_t vertices = 0;
+    std::vector<double> xs;
+    std::vector<double> ys;
+    int level = 0;
+};
+
 struct PlanOptions {
     /// Balanced plan: a tile is split while it holds more than this many input vertices.
     std::size_t vertex_budget = 100000;
@@ -49,10 +61,17 @@ public:
     /// Extent of the input (closed box of every vertex).
     const Box& extent() const { return m_extent; }
     std::size_t input_vertices() const { return m_vertices; }
-    /// Input vertices whose point the leaf's core holds.
+    /// Input vertices whose point the leaf's core holds (counted by whoever made the plan).
     std::size_t leaf_vertices(std::size_t leaf) const { return m_leaf_vertices[leaf]; }
+    void set_leaf_vertices(std::vector<std::size_t> counts) { m_leaf_vertices = std::move(counts); }
+    /// Splits a leaf's core at `value` on `axis` (0: x, 1: y): the leaf keeps the lower part and
+    /// the upper part ([value, ...)) becomes a new leaf, whose id is returned.
+    std::size_t split_leaf(std::size_t leaf, int axis, double value);
 
-    friend TilePlan make_plan(const std::vector<Feature>& features, const PlanOptions& options);
+    void save(ByteWriter& w) const;
+    static TilePlan load(ByteReader& r);
+
+    friend TilePlan make_plan(PlanInput input, const PlanOptions& options);
 
 private:
     struct Node {
@@ -68,13 +87,17 @@ private:
     void query(int node, const Box& b, std::vector<std::size_t>& out) const;
 
     std::vector<Node> m_nodes;
+    std::vector<int> m_node_of_leaf;
     std::vector<Region> m_cores;
     std::vector<std::size_t> m_leaf_vertices;
     Box m_extent;
     std::size_t m_vertices = 0;
 };
 
-/// Throws std::invalid_argument when a regular grid would need more than 10^6 tiles.
+/// Throws std::invalid_argument when a regular grid would need more than 10^6 tiles. The leaf
+/// vertex counts are left at 0.
+TilePlan make_plan(PlanInput input, const PlanOptions& options);
+/// The plan of a set of features held in memory: every vertex sampled, leaf vertices counted.
 TilePlan make_plan(const std::vector<Feature>& features, const PlanOptions& options);
 
 } // namespace trisnap::tiling

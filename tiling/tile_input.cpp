@@ -21,6 +21,8 @@ double sweep(const Coord& c, const Coord& p, const Coord& q)
     return std::atan2(cross(ax, ay, bx, by), ax * bx + ay * by);
 }
 
+} // namespace
+
 class RingCutter {
 public:
     RingCutter(const Box& r, const Box& frame)
@@ -115,7 +117,6 @@ private:
     Coord m_c;
 };
 
-} // namespace
 
 bool segment_meets_box(const Coord& p, const Coord& q, const Box& b)
 {
@@ -135,59 +136,116 @@ bool segment_meets_box(const Coord& p, const Coord& q, const Box& b)
     return pos && neg;
 }
 
+Box detour_frame(const Box& extent, const Box& R)
+{
+    Box frame = extent;
+    frame.add(R);
+    return frame.expanded(0.01 * (frame.width() + frame.height()) + 0.5 * (R.width() + R.height()));
+}
+
+TileCutter::TileCutter(const Box& R, const Box& frame) : m_r(R), m_cutter(std::make_unique<RingCutter>(R, frame)) {}
+
+TileCutter::~TileCutter() = default;
+
+void TileCutter::cut_polygon(const detail::CleanFeature& cf, Geometry& out, bool& intact) const
+{
+    out.type = Geometry::Type::MultiPolygon;
+    for (const auto& ring : cf.rings) {
+        std::vector<Coord> r = m_cutter->cut(ring.points, intact);
+        if (r.empty()) {
+            continue;
+        }
+        r.push_back(r.front());
+        if (out.polygons.size() <= ring.polygon) {
+            out.polygons.resize(ring.polygon + 1);
+        }
+        out.polygons[ring.polygon].rings.push_back(std::move(r));
+    }
+    std::erase_if(out.polygons, [](const Polygon& p) { return p.rings.empty(); });
+}
+
+void TileCutter::cut_lines(const detail::CleanFeature& cf, Geometry& out, bool& intact) const
+{
+    out.type = Geometry::Type::MultiLineString;
+    for (const auto& line : cf.lines) {
+        Path part;
+        for (std::size_t i = 0; i + 1 < line.size(); ++i) {
+            if (segment_meets_box(line[i], line[i + 1], m_r)) {
+                if (part.empty()) {
+                    part.push_back(line[i]);
+                }
+                part.push_back(line[i + 1]);
+            } else {
+                intact = false;
+                if (!part.empty()) {
+                    out.lines.push_back(std::move(part));
+                    part.clear();
+                }
+            }
+        }
+        if (!part.empty()) {
+            out.lines.push_back(std::move(part));
+        }
+    }
+}
+
+bool TileCutter::cut(const detail::CleanFeature& cf, bool has_z, Feature& out, bool& intact) const
+{
+    out = Feature{};
+    out.id = cf.id;
+    intact = true;
+    if (cf.rejected) {
+        return false;
+    }
+    if (cf.polygonal) {
+        cut_polygon(cf, out.geometry, intact);
+    } else {
+        cut_lines(cf, out.geometry, intact);
+    }
+    out.geometry.has_z = has_z;
+    return !out.geometry.empty();
+}
+
+std::size_t engine_vertices(const Geometry& g)
+{
+    std::size_t n = 0;
+    for (const Polygon& p : g.polygons) {
+        for (const Path& r : p.rings) {
+            n += r.size() - 1;
+        }
+    }
+    for (const Path& l : g.lines) {
+        n += l.size();
+    }
+    return n;
+}
+
 TileInput build_tile_input(const std::vector<detail::CleanFeature>& clean, const std::vector<bool>& has_z,
                            const std::vector<std::size_t>& candidates, const Box& R)
 {
     TileInput in;
-    // The frame holds every vertex of a kept edge with room to spare.
-    Box frame = R;
+    // The frame holds every vertex of the candidates (as the layer's extent does in a run).
+    Box extent;
     for (std::size_t f : candidates) {
-        const detail::CleanFeature& cf = clean[f];
-        for (const auto& ring : cf.rings)
-            for (std::size_t i = 0; i < ring.points.size(); ++i) {
-                const Coord &p = ring.points[i], &q = ring.points[(i + 1) % ring.points.size()];
-                if (segment_meets_box(p, q, R)) frame.add(p.x, p.y), frame.add(q.x, q.y);
-            }
-    }
-    frame = frame.expanded(0.01 * (frame.width() + frame.height()) + 0.5 * (R.width() + R.height()));
-    const RingCutter cutter(R, frame);
-    for (std::size_t f : candidates) {
-        const detail::CleanFeature& cf = clean[f];
-        if (cf.rejected) continue;
-        Feature out;
-        out.id = cf.id;
-        bool intact = true;
-        if (cf.polygonal) {
-            out.geometry.type = Geometry::Type::MultiPolygon;
-            for (const auto& ring : cf.rings) {
-                std::vector<Coord> r = cutter.cut(ring.points, intact);
-                if (r.empty()) continue;
-                r.push_back(r.front());
-                if (out.geometry.polygons.size() <= ring.polygon) out.geometry.polygons.resize(ring.polygon + 1);
-                out.geometry.polygons[ring.polygon].rings.push_back(std::move(r));
-            }
-            std::erase_if(out.geometry.polygons, [](const Polygon& p) { return p.rings.empty(); });
-        } else {
-            out.geometry.type = Geometry::Type::MultiLineString;
-            for (const auto& line : cf.lines) {
-                Path part;
-                for (std::size_t i = 0; i + 1 < line.size(); ++i) {
-                    if (segment_meets_box(line[i], line[i + 1], R)) {
-                        if (part.empty()) part.push_back(line[i]);
-                        part.push_back(line[i + 1]);
-                    } else {
-                        intact = false;
-                        if (!part.empty()) out.geometry.lines.push_back(std::move(part)), part.clear();
-                    }
-                }
-                if (!part.empty()) out.geometry.lines.push_back(std::move(part));
+        for (const auto& ring : clean[f].rings) {
+            for (const Coord& c : ring.points) {
+                extent.add(c.x, c.y);
             }
         }
-        if (out.geometry.empty()) continue;
-        for (const Polygon& p : out.geometry.polygons)
-            for (const Path& r : p.rings) in.vertices += r.size() - 1;
-        for (const Path& l : out.geometry.lines) in.vertices += l.size();
-        out.geometry.has_z = has_z[f];
+        for (const auto& line : clean[f].lines) {
+            for (const Coord& c : line) {
+                extent.add(c.x, c.y);
+            }
+        }
+    }
+    const TileCutter cutter(R, detour_frame(extent, R));
+    for (std::size_t f : candidates) {
+        Feature out;
+        bool intact = true;
+        if (!cutter.cut(clean[f], has_z[f], out, intact)) {
+            continue;
+        }
+        in.vertices += engine_vertices(out.geometry);
         in.features.push_back(std::move(out));
         in.source.push_back(f);
         in.intact.push_back(intact);

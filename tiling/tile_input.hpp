@@ -9,6 +9,7 @@
 #include "core/input_cleaning.hpp"
 #include "tiling/plan.hpp"
 
+#include <memory>
 #include <vector>
 
 namespace trisnap::tiling {
@@ -21,6 +22,31 @@ struct TileInput {
 };
 
 bool segment_meets_box(const Coord& p, const Coord& q, const Box& b);
+
+/// The frame detours run along: round `extent` (which holds every input vertex) and R, with room.
+Box detour_frame(const Box& extent, const Box& R);
+
+class RingCutter;
+
+/// Cuts cleaned features for one tile box R (see the top of this file).
+class TileCutter {
+public:
+    TileCutter(const Box& R, const Box& frame);
+    ~TileCutter();
+    /// The feature as the tile sees it (id = cf.id); false when nothing of it meets R.
+    /// `intact`: given whole (no edge dropped, no detour).
+    bool cut(const detail::CleanFeature& cf, bool has_z, Feature& out, bool& intact) const;
+
+private:
+    void cut_polygon(const detail::CleanFeature& cf, Geometry& out, bool& intact) const;
+    void cut_lines(const detail::CleanFeature& cf, Geometry& out, bool& intact) const;
+
+    Box m_r;
+    std::unique_ptr<RingCutter> m_cutter;
+};
+
+/// Vertices the engine counts: rings without their closing point, lines whole.
+std::size_t engine_vertices(const Geometry& g);
 
 /// `candidates`: cleaned features whose box meets R (ascending indices); rejected ones skipped.
 /// `has_z[i]`: whether cleaned feature i carries Z.

@@ -1,13 +1,11 @@
 #include "tiling/tile_job.hpp"
 
-#include <tbb/info.h>
-#include <tbb/parallel_pipeline.h>
-#include <tbb/task_arena.h>
+#include "core/assemble.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <numeric>
 #include <unordered_map>
 #include <unordered_set>
@@ -15,14 +13,17 @@
 namespace trisnap::tiling {
 namespace {
 
-std::uint64_t point_key(double x, double y)
-{
-    std::uint64_t a, b;
-    std::memcpy(&a, &x, 8), std::memcpy(&b, &y, 8);
-    return a * 0x9E3779B97F4A7C15ull ^ (b + 0x7F4A7C15ull + (a << 6) + (a >> 2));
-}
+// Exact point identity: both coordinates' bits (a hash table only finds them faster).
+struct PointKey {
+    std::uint64_t x, y;
+    bool operator==(const PointKey&) const = default;
+};
 
-double round_to(double v, double g) { return g > 0 ? std::round(v / g) * g + 0.0 : v; }
+struct PointKeyHash {
+    std::size_t operator()(const PointKey& k) const noexcept { return k.x * 0x9E3779B97F4A7C15ull ^ (k.y + (k.x << 6) + (k.x >> 2)); }
+};
+
+PointKey point_key(double x, double y) { return PointKey{std::bit_cast<std::uint64_t>(x + 0.0), std::bit_cast<std::uint64_t>(y + 0.0)}; }
 
 struct Seg {
     Coord a, b;
@@ -32,17 +33,20 @@ struct Seg {
 // Did a chain of changed edges connect the border zone of R with the core? Changed = an
 // output edge that is not an input edge. Two changed edges are linked when they come within
 // 2t (cells of side >= 2t, each edge in every cell its box + t covers).
-bool cascade_reaches_core(const TileInput& in, const SnapResult& out, const Box& R, const Box& core, double t,
+bool cascade_reaches_core(const std::vector<Feature>& in, const SnapResult& out, const Box& R, const Box& core, double t,
                           double grid, double& where_x, double& where_y, std::int64_t& feature)
 {
     // Changed = an output edge with an end that is not an input vertex (moved or created); an
     // input edge split at an input vertex lying on it is not a change.
-    std::unordered_set<std::uint64_t> input;
-    auto key = [&](const Coord& p) { return point_key(round_to(p.x, grid), round_to(p.y, grid)); };
+    std::unordered_set<PointKey, PointKeyHash> input;
+    auto key = [&](const Coord& p) {
+        const Coord c = round_to_grid(p, grid);
+        return point_key(c.x, c.y);
+    };
     auto add_path = [&](const Path& r) {
         for (const Coord& c : r) input.insert(key(c));
     };
-    for (const Feature& f : in.features) {
+    for (const Feature& f : in) {
         for (const Polygon& p : f.geometry.polygons) std::for_each(p.rings.begin(), p.rings.end(), add_path);
         std::for_each(f.geometry.lines.begin(), f.geometry.lines.end(), add_path);
     }
@@ -113,53 +117,47 @@ bool cascade_reaches_core(const TileInput& in, const SnapResult& out, const Box&
     return false;
 }
 
-// The box R0 grown to hold both ends of every input edge that meets it: a long edge that
-// reaches into the core moves with its far end, so the tile must see what happens there.
-Box reach_box(const JobContext& ctx, const Box& r0)
-{
-    Box r = r0;
-    auto visit = [&](const Coord& p, const Coord& q) {
-        if (segment_meets_box(p, q, r0)) r.add(p.x, p.y), r.add(q.x, q.y);
-    };
-    for (std::size_t f = 0; f < ctx.boxes.size(); ++f) {
-        if (ctx.clean[f].rejected || !ctx.boxes[f].intersects(r0) || r0.contains(ctx.boxes[f])) continue;
-        for (const auto& ring : ctx.clean[f].rings)
-            for (std::size_t i = 0; i < ring.points.size(); ++i) visit(ring.points[i], ring.points[(i + 1) % ring.points.size()]);
-        for (const auto& line : ctx.clean[f].lines)
-            for (std::size_t i = 0; i + 1 < line.size(); ++i) visit(line[i], line[i + 1]);
-    }
-    return r;
-}
-
 } // namespace
 
-TileOutcome run_job(const JobContext& ctx, const TileJob& job)
+TileOutcome run_tile(const TileJob& job, const SnapOptions& base, const Gather& gather)
 {
     const auto start = std::chrono::steady_clock::now();
     TileOutcome out;
-    out.group = job.group;
-    const double t = ctx.options.tolerance;
-    SnapOptions options = ctx.options;
+    const double t = base.tolerance;
+    SnapOptions options = base;
     options.report_region = job.report_region;
     double halo = job.halo;
     for (int attempt = 0;; ++attempt) {
-        const Box R = reach_box(ctx, job.core.expanded(halo)).expanded(halo);
-        std::vector<std::size_t> candidates;
-        for (std::size_t f = 0; f < ctx.boxes.size(); ++f)
-            if (!ctx.clean[f].rejected && ctx.boxes[f].intersects(R)) candidates.push_back(f);
-        TileInput in = build_tile_input(ctx.clean, ctx.has_z, candidates, R);
-        SnapResult result = snap(in.features, options);
-        double x = 0, y = 0;
+        TileJobInput in = gather(halo);
+        std::vector<Feature> features;
+        std::vector<std::uint64_t> ranks;
+        std::vector<bool> intact;
+        features.reserve(in.features.size());
+        for (TileFeature& f : in.features) {
+            features.push_back(std::move(f.feature));
+            ranks.push_back(f.rank);
+            intact.push_back(f.intact);
+        }
+        in.features.clear();
+        in.features.shrink_to_fit();
+        SnapResult result = snap(features, options);
+        double x = 0;
+        double y = 0;
         std::int64_t feature = 0;
-        const bool reached = ctx.max_growth > 0 && cascade_reaches_core(in, result, R, job.core, t, options.grid, x, y, feature);
-        if (reached && attempt == 0) out.cascade_x = x, out.cascade_y = y, out.cascade_feature = feature;
-        if (!reached || attempt >= ctx.max_growth) {
+        const bool reached = job.max_growth > 0 &&
+                             cascade_reaches_core(features, result, in.reach, job.core, t, options.grid, x, y, feature);
+        if (reached && attempt == 0) {
+            out.cascade_x = x;
+            out.cascade_y = y;
+            out.cascade_feature = feature;
+        }
+        if (!reached || attempt >= job.max_growth) {
             out.cascade_unbounded = reached;
             out.halo = halo;
             out.growths = attempt;
             out.input_vertices = in.vertices;
-            out.source = std::move(in.source);
-            out.intact = std::move(in.intact);
+            out.ranks = std::move(ranks);
+            out.intact = std::move(intact);
             out.result = std::move(result);
             break;
         }
@@ -167,33 +165,6 @@ TileOutcome run_job(const JobContext& ctx, const TileJob& job)
     }
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;
-}
-
-std::vector<TileOutcome> run_jobs(const JobContext& ctx, const std::vector<TileJob>& jobs, int threads,
-                                  const std::function<void(const TileOutcome&)>& done)
-{
-    std::vector<TileOutcome> results(jobs.size());
-    const int n = threads > 0 ? threads : tbb::info::default_concurrency();
-    tbb::task_arena arena(n);
-    arena.execute([&] {
-        std::size_t next = 0;
-        tbb::parallel_pipeline(
-            static_cast<std::size_t>(2 * n),
-            tbb::make_filter<void, std::size_t>(tbb::filter_mode::serial_in_order,
-                                                [&](tbb::flow_control& fc) -> std::size_t {
-                                                    if (next >= jobs.size()) { fc.stop(); return 0; }
-                                                    return next++;
-                                                }) &
-                tbb::make_filter<std::size_t, std::size_t>(tbb::filter_mode::parallel,
-                                                           [&](std::size_t k) {
-                                                               results[k] = run_job(ctx, jobs[k]);
-                                                               return k;
-                                                           }) &
-                tbb::make_filter<std::size_t, void>(tbb::filter_mode::serial_in_order, [&](std::size_t k) {
-                    if (done) done(results[k]);
-                }));
-    });
-    return results;
 }
 
 } // namespace trisnap::tiling

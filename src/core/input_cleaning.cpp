@@ -110,6 +110,9 @@ void report(const CleanFeature& f, const Flags& flags, std::vector<Problem>& pro
     if (flags.degenerate_line) add(ProblemCode::degenerate_line, "line with fewer than 2 distinct points was dropped");
 }
 
+
+} // namespace
+
 CleanFeature clean_feature(const Feature& in, std::size_t index, double tolerance,
                            std::vector<Problem>& problems)
 {
@@ -142,8 +145,6 @@ CleanFeature clean_feature(const Feature& in, std::size_t index, double toleranc
     }
     return out;
 }
-
-} // namespace
 
 std::vector<CleanFeature> clean_input(const std::vector<Feature>& features, double tolerance,
                                       std::vector<Problem>& problems)

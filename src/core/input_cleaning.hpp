@@ -28,6 +28,11 @@ struct CleanFeature {
     std::size_t holes = 0;                 ///< kept holes
 };
 
+/// Cleans one feature (`index`: its position in the caller's sequence); `problems` receives one
+/// entry per repair kind.
+CleanFeature clean_feature(const Feature& feature, std::size_t index, double tolerance,
+                           std::vector<Problem>& problems);
+
 /// Cleans every feature; `problems` receives one entry per repair kind per feature.
 std::vector<CleanFeature> clean_input(const std::vector<Feature>& features, double tolerance,
                                       std::vector<Problem>& problems);

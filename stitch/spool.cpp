@@ -1,0 +1,263 @@
+// The read pass's side of the work directory: features.bin, features.idx, spool.meta, and the
+// check that the FIDs are unique (sorted runs of FIDs spilled to the store when they outgrow
+// their buffer, merged at the end).
+#include "stitch/spool.hpp"
+
+#include "tiling/records.hpp"
+#include "tiling/tile_input.hpp"
+
+#include <algorithm>
+#include <queue>
+
+namespace trisnap::stitch {
+namespace {
+
+constexpr std::int64_t k_null_fid = -1; // OGRNullFID
+
+std::string fid_run(std::size_t k) { return "fids-" + std::to_string(k); }
+
+// Merges the sorted runs (and the sorted buffer) and looks for two equal neighbours.
+bool unique_across_runs(tiling::WorkStore& store, std::size_t runs, std::vector<std::int64_t>& buffer)
+{
+    std::sort(buffer.begin(), buffer.end());
+    if (std::adjacent_find(buffer.begin(), buffer.end()) != buffer.end()) {
+        return false;
+    }
+    if (runs == 0) {
+        return true;
+    }
+    std::vector<std::unique_ptr<tiling::InFile>> files;
+    using Head = std::pair<std::int64_t, std::size_t>;
+    std::priority_queue<Head, std::vector<Head>, std::greater<>> heap;
+    auto pull = [&](std::size_t k) {
+        std::int64_t v = 0;
+        if (files[k]->read(reinterpret_cast<char*>(&v), sizeof v) == sizeof v) {
+            heap.emplace(v, k);
+        }
+    };
+    for (std::size_t k = 0; k < runs; ++k) {
+        files.push_back(store.open(fid_run(k)));
+        pull(k);
+    }
+    std::size_t next_in_buffer = 0;
+    bool have_last = false;
+    std::int64_t last = 0;
+    auto see = [&](std::int64_t v) {
+        const bool repeated = have_last && v == last;
+        have_last = true;
+        last = v;
+        return !repeated;
+    };
+    while (!heap.empty() || next_in_buffer < buffer.size()) {
+        const bool from_buffer = heap.empty() || (next_in_buffer < buffer.size() && buffer[next_in_buffer] < heap.top().first);
+        std::int64_t v = 0;
+        if (from_buffer) {
+            v = buffer[next_in_buffer++];
+        } else {
+            const Head h = heap.top();
+            heap.pop();
+            v = h.first;
+            pull(h.second);
+        }
+        if (!see(v)) {
+            return false;
+        }
+    }
+    return true;
+}
+
+} // namespace
+
+void SpoolMeta::save(tiling::ByteWriter& w) const
+{
+    w.put(records);
+    w.put(spooled);
+    w.put(vertices);
+    w.put<std::uint8_t>(fids_unique ? 1 : 0);
+    for (double v : {sample.extent.xmin, sample.extent.ymin, sample.extent.xmax, sample.extent.ymax}) {
+        w.put(v);
+    }
+    w.put<std::uint64_t>(sample.vertices);
+    w.put<std::int32_t>(sample.level);
+    w.put<std::uint64_t>(sample.xs.size());
+    for (std::size_t i = 0; i < sample.xs.size(); ++i) {
+        w.put(sample.xs[i]);
+        w.put(sample.ys[i]);
+    }
+    w.put(largest_vertices);
+    w.put(largest_fid);
+}
+
+SpoolMeta SpoolMeta::load(tiling::ByteReader& r)
+{
+    SpoolMeta m;
+    m.records = r.get<std::uint64_t>();
+    m.spooled = r.get<std::uint64_t>();
+    m.vertices = r.get<std::uint64_t>();
+    m.fids_unique = r.get<std::uint8_t>() != 0;
+    m.sample.extent.xmin = r.get<double>();
+    m.sample.extent.ymin = r.get<double>();
+    m.sample.extent.xmax = r.get<double>();
+    m.sample.extent.ymax = r.get<double>();
+    m.sample.vertices = r.get<std::uint64_t>();
+    m.sample.level = r.get<std::int32_t>();
+    const auto n = r.get<std::uint64_t>();
+    for (std::uint64_t i = 0; i < n; ++i) {
+        m.sample.xs.push_back(r.get<double>());
+        m.sample.ys.push_back(r.get<double>());
+    }
+    m.largest_vertices = r.get<std::uint64_t>();
+    m.largest_fid = r.get<std::int64_t>();
+    return m;
+}
+
+struct FeatureSpool::Impl {
+    Impl(tiling::WorkStore& s, double t, std::size_t sample_cap, std::size_t fid_buffer)
+        : store(s), tolerance(t), sample(sample_cap), fid_cap(std::max<std::size_t>(fid_buffer, 1024)),
+          features(s.create(files::features)), offsets(s.create(files::offsets)), writer(*features)
+    {
+    }
+    void note_fid(std::int64_t fid)
+    {
+        if (fid == k_null_fid) {
+            meta.fids_unique = false;
+        }
+        if (!meta.fids_unique) {
+            return;
+        }
+        fids.push_back(fid);
+        if (fids.size() >= fid_cap) {
+            std::sort(fids.begin(), fids.end());
+            if (std::adjacent_find(fids.begin(), fids.end()) != fids.end()) {
+                meta.fids_unique = false;
+            }
+            store.put(fid_run(runs++), std::string_view(reinterpret_cast<const char*>(fids.data()), fids.size() * sizeof(std::int64_t)));
+            fids.clear();
+        }
+    }
+
+    tiling::WorkStore& store;
+    double tolerance;
+    tiling::VertexSample sample;
+    std::size_t fid_cap;
+    std::vector<std::int64_t> fids;
+    std::size_t runs = 0;
+    std::unique_ptr<tiling::OutFile> features;
+    std::unique_ptr<tiling::OutFile> offsets;
+    tiling::RecordWriter writer;
+    SpoolMeta meta;
+    std::string record;
+};
+
+FeatureSpool::FeatureSpool(tiling::WorkStore& store, double tolerance, std::size_t sample_cap, std::size_t fid_buffer)
+    : m_impl(std::make_unique<Impl>(store, tolerance, sample_cap, fid_buffer))
+{
+}
+
+FeatureSpool::~FeatureSpool() = default;
+
+void FeatureSpool::add(std::uint64_t seq, std::int64_t fid, const Geometry& geometry, std::vector<Problem>& problems)
+{
+    Impl& m = *m_impl;
+    ++m.meta.records;
+    m.note_fid(fid);
+    detail::CleanFeature cf = detail::clean_feature(Feature{fid, geometry}, seq, m.tolerance, problems);
+    std::uint64_t n = 0;
+    for (const detail::CleanRing& r : cf.rings) {
+        for (const Coord& c : r.points) {
+            m.sample.add(c.x, c.y);
+        }
+        n += r.points.size();
+    }
+    for (const auto& line : cf.lines) {
+        for (const Coord& c : line) {
+            m.sample.add(c.x, c.y);
+        }
+        n += line.size();
+    }
+    m.meta.vertices += n;
+    if (n > m.meta.largest_vertices) {
+        m.meta.largest_vertices = n;
+        m.meta.largest_fid = fid;
+    }
+    m.record.clear();
+    tiling::ByteWriter w(m.record);
+    tiling::put_clean_feature(w, cf, geometry.has_z);
+    const std::uint64_t offset = m.writer.write(m.record);
+    m.offsets->write(std::string_view(reinterpret_cast<const char*>(&offset), sizeof offset));
+    ++m.meta.spooled;
+}
+
+void FeatureSpool::skip(std::int64_t fid)
+{
+    ++m_impl->meta.records;
+    m_impl->note_fid(fid);
+}
+
+SpoolMeta FeatureSpool::finish()
+{
+    Impl& m = *m_impl;
+    m.features->commit();
+    m.offsets->commit();
+    if (m.meta.fids_unique) {
+        m.meta.fids_unique = unique_across_runs(m.store, m.runs, m.fids);
+    }
+    m.store.remove_all("fids-");
+    m.meta.sample = m.sample.take();
+    std::string bytes;
+    tiling::ByteWriter w(bytes);
+    m.meta.save(w);
+    m.store.put(files::spool_meta, bytes);
+    return m.meta;
+}
+
+SpooledFeatures::SpooledFeatures(const tiling::WorkStore& store)
+    : m_file(store.open(files::features)), m_reader(*m_file)
+{
+}
+
+bool SpooledFeatures::next(detail::CleanFeature& f, bool& has_z)
+{
+    if (!m_reader.next(m_record)) {
+        return false;
+    }
+    tiling::ByteReader r(m_record, "feature");
+    f = tiling::get_clean_feature(r, has_z);
+    return true;
+}
+
+FeatureLookup::FeatureLookup(const tiling::WorkStore& store)
+    : m_features(store.open(files::features)), m_offsets(store.open(files::offsets)), m_reader(*m_features)
+{
+    m_count = m_offsets->size() / sizeof(std::uint64_t);
+}
+
+detail::CleanFeature FeatureLookup::at(std::uint64_t rank, bool& has_z)
+{
+    std::uint64_t offset = 0;
+    m_offsets->read_at(rank * sizeof offset, reinterpret_cast<char*>(&offset), sizeof offset);
+    const std::string record = m_reader.at(offset);
+    tiling::ByteReader r(record, "feature");
+    return tiling::get_clean_feature(r, has_z);
+}
+
+detail::CleanFeature as_clean(const Feature& f)
+{
+    detail::CleanFeature cf;
+    cf.id = f.id;
+    cf.polygonal = f.geometry.is_polygonal();
+    for (std::uint32_t p = 0; p < f.geometry.polygons.size(); ++p) {
+        const auto& rings = f.geometry.polygons[p].rings;
+        for (std::size_t k = 0; k < rings.size(); ++k) {
+            detail::CleanRing ring;
+            ring.points.assign(rings[k].begin(), rings[k].end() - 1);
+            ring.polygon = p;
+            ring.hole = k > 0;
+            cf.rings.push_back(std::move(ring));
+        }
+    }
+    cf.lines = f.geometry.lines;
+    return cf;
+}
+
+} // namespace trisnap::stitch

@@ -1,0 +1,130 @@
+#pragma once
+// The first two steps of a tiled run, each one streaming pass with bounded memory:
+//  1. FeatureSpool: every input feature, in input order, cleaned (1xx problems reported) and
+//     written once to features.bin, with a bounded order-independent sample of its vertices
+//     for the plan, the layer's extent, and whether the FIDs can serve as engine ids;
+//  2. make_buckets(): the tile plan from that sample, each leaf's reach box R (a pass that grows
+//     R for the long edges meeting core + halo), and each leaf's bucket (a pass that writes
+//     every feature meeting R, cut to R, into it). A leaf whose bucket holds more vertices than
+//     a tile may is split in two, again and again, from its own bucket.
+// Nothing here holds the layer: memory is the sample, the per-leaf tables and bucket buffers.
+#include "core/geometry.hpp"
+#include "core/input_cleaning.hpp"
+#include "core/problems.hpp"
+#include "stitch/layout.hpp"
+#include "tiling/records.hpp"
+#include "tiling/sample.hpp"
+#include "tiling/work_store.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace trisnap::stitch {
+
+/// What the read pass learned about the layer (kept in the work directory as spool.meta).
+struct SpoolMeta {
+    std::uint64_t records = 0;  ///< input features read, snapped or not
+    std::uint64_t spooled = 0;  ///< features in features.bin (given to the engine)
+    std::uint64_t vertices = 0; ///< their engine vertices
+    bool fids_unique = true;    ///< engine ids are the FIDs; else their input positions
+    tiling::PlanInput sample;
+    std::uint64_t largest_vertices = 0; ///< the largest feature's engine vertices
+    std::int64_t largest_fid = 0;
+    void save(tiling::ByteWriter& w) const;
+    static SpoolMeta load(tiling::ByteReader& r);
+};
+
+class FeatureSpool {
+public:
+    /// `sample_cap`: vertices kept for the plan; `fid_buffer`: FIDs sorted in memory at once.
+    FeatureSpool(tiling::WorkStore& store, double tolerance, std::size_t sample_cap, std::size_t fid_buffer);
+    ~FeatureSpool();
+    /// Cleans and spools one feature to snap; its repairs go to `problems` carrying `fid`.
+    /// Call in input order; `seq` is the input position.
+    void add(std::uint64_t seq, std::int64_t fid, const Geometry& geometry, std::vector<Problem>& problems);
+    /// A feature read but not snapped (passed through or rejected): its FID still counts.
+    void skip(std::int64_t fid);
+    /// Commits features.bin, features.idx and spool.meta.
+    SpoolMeta finish();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+};
+
+/// The engine id of a spooled feature.
+inline std::int64_t engine_id(const SpoolMeta& meta, const detail::CleanFeature& f)
+{
+    return meta.fids_unique ? f.id : static_cast<std::int64_t>(f.index);
+}
+
+/// Reads features.bin in order, or one feature by its position in it.
+class SpooledFeatures {
+public:
+    explicit SpooledFeatures(const tiling::WorkStore& store);
+    /// The next feature in input order; false at the end.
+    bool next(detail::CleanFeature& f, bool& has_z);
+
+private:
+    std::unique_ptr<tiling::InFile> m_file;
+    tiling::RecordReader m_reader;
+    std::string m_record;
+};
+
+/// Random access to spooled features by their rank in features.bin.
+class FeatureLookup {
+public:
+    explicit FeatureLookup(const tiling::WorkStore& store);
+    detail::CleanFeature at(std::uint64_t rank, bool& has_z);
+    std::uint64_t size() const { return m_count; }
+
+private:
+    std::unique_ptr<tiling::InFile> m_features;
+    std::unique_ptr<tiling::InFile> m_offsets;
+    tiling::RecordReader m_reader;
+    std::uint64_t m_count = 0;
+};
+
+struct BucketOptions {
+    double halo = 0;                        ///< layer units
+    double seam_band = 0;                   ///< layer units
+    std::uint64_t max_tile_vertices = 0;    ///< 0: no limit; larger buckets are split
+    std::size_t buffer_bytes = 64u << 20;   ///< bucket data buffered before appending
+};
+
+/// A tile that cannot be made small enough for the budget: what() says which and how much;
+/// vertices() is what it needs in one triangulation.
+class budget_error : public std::runtime_error {
+public:
+    budget_error(const std::string& what, std::uint64_t vertices) : std::runtime_error(what), m_vertices(vertices) {}
+    std::uint64_t vertices() const { return m_vertices; }
+
+private:
+    std::uint64_t m_vertices;
+};
+
+/// Called with (features done, features in total) during each pass.
+using PassProgress = std::function<void(std::uint64_t, std::uint64_t)>;
+
+/// Plans, computes reach boxes and fills the buckets; commits layout.bin.
+TileLayout make_buckets(tiling::WorkStore& store, const SpoolMeta& meta, const TilingOptions& tiling,
+                        const BucketOptions& options, const PassProgress& progress = {});
+
+/// A leaf's bucket, in input order.
+std::vector<tiling::TileFeature> read_bucket(const tiling::WorkStore& store, std::size_t leaf);
+
+/// Grows `reach` (starting as r0) by both ends of every edge of the feature that meets r0.
+void grow_reach(const detail::CleanFeature& cf, const tiling::Box& feature_box, const tiling::Box& r0, tiling::Box& reach);
+tiling::Box box_of(const detail::CleanFeature& cf);
+
+/// A tile's box R: core + halo, grown to hold both ends of every edge of `from` meeting that
+/// (a long edge moves with its far end), + halo. `from` must hold every input edge meeting
+/// core + halo whole (a bucket of a leaf whose box holds that does).
+tiling::Box reach_box(const tiling::Box& core, double halo, const std::vector<tiling::TileFeature>& from);
+
+/// The feature as the engine's own rings/lines (open rings), for cutting it again.
+detail::CleanFeature as_clean(const Feature& f);
+
+} // namespace trisnap::stitch

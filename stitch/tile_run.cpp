@@ -1,0 +1,307 @@
+#include "stitch/tile_run.hpp"
+
+#include "tiling/tile_input.hpp"
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+namespace trisnap::stitch {
+namespace {
+
+using tiling::Box;
+
+void directed_edges(const Geometry& g, std::vector<DirectedEdge>& out)
+{
+    out.clear();
+    for (const Polygon& p : g.polygons) {
+        for (const Path& r : p.rings) {
+            for (std::size_t i = 0; i + 1 < r.size(); ++i) {
+                out.push_back(DirectedEdge{r[i], r[i + 1]});
+            }
+        }
+    }
+    for (const Path& l : g.lines) {
+        for (std::size_t i = 0; i + 1 < l.size(); ++i) {
+            out.push_back(DirectedEdge{l[i], l[i + 1]});
+        }
+    }
+}
+
+Box edge_box(const DirectedEdge& e)
+{
+    Box b;
+    b.add(e.a.x, e.a.y);
+    b.add(e.b.x, e.b.y);
+    return b;
+}
+
+bool inside_region(const Region& r, const Box& b)
+{
+    return r.xmin <= b.xmin && b.xmax < r.xmax && r.ymin <= b.ymin && b.ymax < r.ymax;
+}
+
+// The codes a tile's own evidence decides (the rest is judged on the stitched feature).
+bool kept_from_tile(ProblemCode code)
+{
+    return code == ProblemCode::self_intersection || code == ProblemCode::not_converged ||
+           code == ProblemCode::separation_not_reached || code == ProblemCode::thin_part_collapsed;
+}
+
+// Pieces and seam edges of one tile's output.
+class ResultBuilder {
+public:
+    ResultBuilder(const TileLayout& layout, const Groups& groups, std::size_t group)
+        : m_layout(layout), m_groups(groups), m_group(group)
+    {
+    }
+    void add_feature(std::uint64_t rank, bool intact, const FeatureOutput& fo);
+    void add_problem(std::size_t position, const Problem& p);
+    std::vector<Piece>& pieces() { return m_pieces; }
+    std::vector<SeamEdge>& seams() { return m_seams; }
+    std::size_t owned() const { return m_owned; }
+    std::size_t problems() const { return m_problems; }
+
+private:
+    bool mine(std::size_t leaf) const { return m_groups.of_leaf[leaf] == m_group; }
+    bool owns(const DirectedEdge& e) const;
+    void seam_edge(std::uint64_t rank, const DirectedEdge& e, bool owned);
+
+    const TileLayout& m_layout;
+    const Groups& m_groups;
+    std::size_t m_group;
+    std::vector<Piece> m_pieces; ///< one per input feature, in order
+    std::vector<SeamEdge> m_seams;
+    std::vector<DirectedEdge> m_edges;
+    std::vector<std::size_t> m_near;
+    std::size_t m_owned = 0;
+    std::size_t m_problems = 0;
+};
+
+// An edge belongs to the tile whose core holds its midpoint (none outside the data extent:
+// only artificial detour edges lie there).
+bool ResultBuilder::owns(const DirectedEdge& e) const
+{
+    const double mx = 0.5 * (e.a.x + e.b.x);
+    const double my = 0.5 * (e.a.y + e.b.y);
+    const Box& x = m_layout.plan.extent();
+    if (!(x.xmin <= mx && mx <= x.xmax && x.ymin <= my && my <= x.ymax)) {
+        return false;
+    }
+    return mine(m_layout.plan.leaf_of(mx, my));
+}
+
+void ResultBuilder::seam_edge(std::uint64_t rank, const DirectedEdge& e, bool owned)
+{
+    const Box b = edge_box(e).expanded(m_layout.seam_band);
+    const std::size_t home = m_layout.plan.leaf_of(0.5 * (e.a.x + e.b.x), 0.5 * (e.a.y + e.b.y));
+    if (inside_region(m_layout.plan.core(home), b) && mine(home)) {
+        return; // deep inside one of this tile's leaves: near no seam
+    }
+    m_near.clear();
+    m_layout.plan.query(b, m_near);
+    if (std::all_of(m_near.begin(), m_near.end(), [&](std::size_t leaf) { return mine(leaf); })) {
+        return;
+    }
+    SeamEdge s;
+    s.rank = rank;
+    s.edge = e;
+    s.owned = owned;
+    s.near.assign(m_near.begin(), m_near.end());
+    m_seams.push_back(std::move(s));
+}
+
+void ResultBuilder::add_feature(std::uint64_t rank, bool intact, const FeatureOutput& fo)
+{
+    Piece piece;
+    piece.rank = rank;
+    piece.displacement = fo.max_displacement;
+    piece.has_z = fo.geometry.has_z;
+    directed_edges(fo.geometry, m_edges);
+    for (const DirectedEdge& e : m_edges) {
+        const bool owned = owns(e);
+        if (owned) {
+            piece.edges.push_back(e);
+        }
+        seam_edge(rank, e, owned);
+    }
+    m_owned += piece.edges.size();
+    if (intact && !m_edges.empty() && piece.edges.size() == m_edges.size()) {
+        piece.whole = true;
+        piece.edges.clear();
+        piece.geometry = fo.geometry;
+    }
+    m_pieces.push_back(std::move(piece));
+}
+
+// 205/207/209 count where they happen; 105 from any tile (each tile reports crossings only in
+// its core; the stitch keeps one per feature).
+void ResultBuilder::add_problem(std::size_t position, const Problem& p)
+{
+    if (!kept_from_tile(p.code)) {
+        return;
+    }
+    if (p.code != ProblemCode::self_intersection && !mine(m_layout.plan.leaf_of(p.x, p.y))) {
+        return;
+    }
+    m_pieces[position].problems.push_back(p);
+    ++m_problems;
+}
+
+bool worth_keeping(const Piece& p) { return p.whole || !p.edges.empty() || p.displacement > 0 || !p.problems.empty(); }
+
+} // namespace
+
+TileRunner::TileRunner(tiling::WorkStore& store, const TileLayout& layout, const Groups& groups, const SpoolMeta& meta,
+                       const SnapOptions& options, int max_growth)
+    : m_store(store), m_layout(layout), m_groups(groups), m_meta(meta), m_options(options), m_max_growth(max_growth)
+{
+}
+
+std::uint64_t TileRunner::vertices(std::size_t group) const
+{
+    std::uint64_t n = 0;
+    for (std::size_t leaf : m_groups.leaves[group]) {
+        n += m_layout.bucket_vertices[leaf];
+    }
+    return n;
+}
+
+tiling::TileJobInput TileRunner::gather(std::size_t group, double halo) const
+{
+    const std::vector<std::size_t>& leaves = m_groups.leaves[group];
+    if (leaves.size() != 1 || halo != m_layout.halo) {
+        return gather_wide(group, halo);
+    }
+    tiling::TileJobInput in;
+    in.features = read_bucket(m_store, leaves[0]);
+    in.reach = m_layout.reach[leaves[0]];
+    in.vertices = m_layout.bucket_vertices[leaves[0]];
+    return in;
+}
+
+// Every feature meeting a box is in the bucket of some leaf whose core meets the box (a leaf's
+// bucket holds everything meeting its core, and more). The reach is grown from the features'
+// own edges (read back from features.bin: a bucket's cut features carry detour edges that
+// must not count), then they are cut to it.
+tiling::TileJobInput TileRunner::gather_wide(std::size_t group, double halo) const
+{
+    const Box core = group_core(m_layout, m_groups, group);
+    FeatureLookup lookup(m_store);
+    std::map<std::uint64_t, std::pair<detail::CleanFeature, bool>> seen; // rank -> (feature, has_z)
+    auto features_meeting = [&](const Box& b) {
+        std::vector<std::size_t> leaves;
+        m_layout.plan.query(b, leaves);
+        std::set<std::uint64_t> ranks;
+        for (std::size_t leaf : leaves) {
+            for (const tiling::TileFeature& f : read_bucket(m_store, leaf)) {
+                ranks.insert(f.rank);
+            }
+        }
+        for (std::uint64_t rank : ranks) {
+            if (!seen.count(rank)) {
+                bool has_z = false;
+                detail::CleanFeature cf = lookup.at(rank, has_z);
+                seen.emplace(rank, std::make_pair(std::move(cf), has_z));
+            }
+        }
+        return ranks;
+    };
+    const Box r0 = core.expanded(halo);
+    Box reach = r0;
+    for (std::uint64_t rank : features_meeting(r0)) {
+        const detail::CleanFeature& cf = seen.at(rank).first;
+        grow_reach(cf, box_of(cf), r0, reach);
+    }
+    tiling::TileJobInput in;
+    in.reach = reach.expanded(halo);
+    const tiling::TileCutter cutter(in.reach, tiling::detour_frame(m_meta.sample.extent, in.reach));
+    for (std::uint64_t rank : features_meeting(in.reach)) {
+        const auto& [cf, has_z] = seen.at(rank);
+        tiling::TileFeature tf;
+        if (!cutter.cut(cf, has_z, tf.feature, tf.intact)) {
+            continue;
+        }
+        tf.rank = rank;
+        tf.feature.id = engine_id(m_meta, cf);
+        in.vertices += tiling::engine_vertices(tf.feature.geometry);
+        in.features.push_back(std::move(tf));
+    }
+    return in;
+}
+
+void TileRunner::commit(std::size_t group, const tiling::TileOutcome& oc, TileReport& report) const
+{
+    ResultBuilder builder(m_layout, m_groups, group);
+    std::unordered_map<std::int64_t, std::size_t> position;
+    for (std::size_t k = 0; k < oc.ranks.size(); ++k) {
+        builder.add_feature(oc.ranks[k], oc.intact[k], oc.result.features[k]);
+        position.emplace(oc.result.features[k].id, k);
+    }
+    for (const Problem& p : oc.result.problems) {
+        if (auto it = position.find(p.feature_id); it != position.end()) {
+            builder.add_problem(it->second, p);
+        }
+    }
+    report.output_edges_owned = builder.owned();
+    report.problems = builder.problems();
+    std::string record;
+    {
+        const std::unique_ptr<tiling::OutFile> file = m_store.create(files::result(group));
+        tiling::RecordWriter writer(*file);
+        tiling::ByteWriter w(record);
+        put_tile_report(w, report);
+        writer.write(record);
+        for (const Piece& p : builder.pieces()) {
+            if (worth_keeping(p)) {
+                record.clear();
+                put_piece(w, p);
+                writer.write(record);
+            }
+        }
+        file->commit();
+    }
+    const std::unique_ptr<tiling::OutFile> file = m_store.create(files::seams(group));
+    tiling::RecordWriter writer(*file);
+    tiling::ByteWriter w(record);
+    for (const SeamEdge& s : builder.seams()) {
+        record.clear();
+        put_seam_edge(w, s);
+        writer.write(record);
+    }
+    file->commit();
+}
+
+TileReport TileRunner::run(std::size_t group) const
+{
+    tiling::TileJob job;
+    job.core = group_core(m_layout, m_groups, group);
+    job.report_region = group_region(m_layout, m_groups, group);
+    job.halo = m_groups.halo[group];
+    job.max_growth = m_max_growth;
+    const tiling::TileOutcome oc = tiling::run_tile(job, m_options, [&](double h) { return gather(group, h); });
+    TileReport report;
+    report.id = m_groups.leaves[group].front();
+    report.leaves = m_groups.leaves[group].size();
+    report.core = job.core;
+    report.halo = oc.halo;
+    report.growths = oc.growths;
+    report.cascade_unbounded = oc.cascade_unbounded;
+    report.cascade_x = oc.cascade_x;
+    report.cascade_y = oc.cascade_y;
+    for (std::size_t k = 0; k < oc.ranks.size(); ++k) {
+        if (oc.growths > 0 && oc.result.features[k].id == oc.cascade_feature) {
+            report.cascade_rank = oc.ranks[k];
+            break;
+        }
+    }
+    report.features = oc.ranks.size();
+    report.input_vertices = oc.input_vertices;
+    report.seconds = oc.seconds;
+    report.stats = oc.result.stats;
+    commit(group, oc, report);
+    return report;
+}
+
+} // namespace trisnap::stitch

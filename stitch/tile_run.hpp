@@ -1,0 +1,38 @@
+#pragma once
+// Runs one tile (a group of plan leaves) from the work directory and commits what the stitch
+// needs: result-<group> (a TileReport, then one Piece per feature it has something to say
+// about, in input order) and seams-<group> (its seam-band edges). Thread-safe: tiles run in
+// parallel, each on its own files.
+// Input: a single leaf at the base halo reads its own bucket; a merged group, or a tile whose
+// halo grew, gathers the features of every leaf near it from features.bin and cuts them to its
+// own reach box (rare: seam merges and cascade growths).
+#include "stitch/layout.hpp"
+#include "stitch/spool.hpp"
+#include "stitch/tile_result.hpp"
+#include "tiling/tile_job.hpp"
+
+namespace trisnap::stitch {
+
+class TileRunner {
+public:
+    TileRunner(tiling::WorkStore& store, const TileLayout& layout, const Groups& groups, const SpoolMeta& meta,
+               const SnapOptions& options, int max_growth);
+    /// Snaps the group and commits its files; returns its report.
+    TileReport run(std::size_t group) const;
+    /// Engine vertices the group's input holds (an estimate for a merged group).
+    std::uint64_t vertices(std::size_t group) const;
+
+private:
+    tiling::TileJobInput gather(std::size_t group, double halo) const;
+    tiling::TileJobInput gather_wide(std::size_t group, double halo) const;
+    void commit(std::size_t group, const tiling::TileOutcome& oc, TileReport& report) const;
+
+    tiling::WorkStore& m_store;
+    const TileLayout& m_layout;
+    const Groups& m_groups;
+    const SpoolMeta& m_meta;
+    const SnapOptions& m_options;
+    int m_max_growth;
+};
+
+} // namespace trisnap::stitch

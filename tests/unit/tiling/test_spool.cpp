@@ -1,0 +1,350 @@
+// The work directory: records round-trip bit for bit (z, NaN payloads, negative zeros), files
+// appear only when committed, damaged files are refused; the vertex sample does not depend on
+// input order; a plan survives save/load and leaf splits; a tiled run on a directory store with
+// a small memory pool (tiles split to fit) and interrupted between tiles gives the untiled
+// output.
+#include "generators.hpp"
+#include "tiled_check.hpp"
+
+#include "stitch/spool.hpp"
+#include "stitch/tiled_snap.hpp"
+#include "tiling/records.hpp"
+#include "tiling/sample.hpp"
+#include "tiling/work_store.hpp"
+#include "core/wkt.hpp"
+
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <random>
+
+namespace trisnap {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::uint64_t bits(double v) { return std::bit_cast<std::uint64_t>(v); }
+
+void expect_same_bits(const Geometry& a, const Geometry& b)
+{
+    ASSERT_EQ(a.type, b.type);
+    ASSERT_EQ(a.has_z, b.has_z);
+    auto same = [&](const Path& p, const Path& q) {
+        ASSERT_EQ(p.size(), q.size());
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            EXPECT_EQ(bits(p[i].x), bits(q[i].x));
+            EXPECT_EQ(bits(p[i].y), bits(q[i].y));
+            if (a.has_z) {
+                EXPECT_EQ(bits(p[i].z), bits(q[i].z));
+            } else {
+                EXPECT_TRUE(std::isnan(q[i].z));
+            }
+        }
+    };
+    ASSERT_EQ(a.polygons.size(), b.polygons.size());
+    for (std::size_t p = 0; p < a.polygons.size(); ++p) {
+        ASSERT_EQ(a.polygons[p].rings.size(), b.polygons[p].rings.size());
+        for (std::size_t r = 0; r < a.polygons[p].rings.size(); ++r) {
+            same(a.polygons[p].rings[r], b.polygons[p].rings[r]);
+        }
+    }
+    ASSERT_EQ(a.lines.size(), b.lines.size());
+    for (std::size_t l = 0; l < a.lines.size(); ++l) {
+        same(a.lines[l], b.lines[l]);
+    }
+}
+
+Geometry awkward_geometry(bool polygon)
+{
+    Geometry g;
+    g.has_z = true;
+    const double payload_nan = std::bit_cast<double>(0x7ff8dead00000001ull);
+    Path p{{-0.0, 1e-300, payload_nan}, {std::nextafter(1.0, 2.0), -1e308, -0.0}, {3, 4, 5e-324}, {-0.0, 1e-300, 1}};
+    if (polygon) {
+        g.type = Geometry::Type::MultiPolygon;
+        g.polygons = {Polygon{{p, p}}, Polygon{{p}}};
+    } else {
+        g.type = Geometry::Type::MultiLineString;
+        g.lines = {p, Path{{1, 2, 3}, {4, 5, 6}}};
+    }
+    return g;
+}
+
+TEST(Records, GeometriesAndTileFeaturesRoundTripBitForBit)
+{
+    for (bool polygon : {true, false}) {
+        tiling::TileFeature f{42, Feature{-7, awkward_geometry(polygon)}, false};
+        std::string bytes;
+        tiling::ByteWriter w(bytes);
+        tiling::put_tile_feature(w, f);
+        tiling::ByteReader r(bytes, "test");
+        const tiling::TileFeature back = tiling::get_tile_feature(r);
+        EXPECT_TRUE(r.done());
+        EXPECT_EQ(back.rank, 42u);
+        EXPECT_EQ(back.feature.id, -7);
+        EXPECT_FALSE(back.intact);
+        expect_same_bits(f.feature.geometry, back.feature.geometry);
+        // Every truncation is refused, never read past the end.
+        for (std::size_t cut = 0; cut < bytes.size(); cut += 7) {
+            tiling::ByteReader partial(std::string_view(bytes).substr(0, cut), "test");
+            EXPECT_THROW(tiling::get_tile_feature(partial), tiling::record_error) << cut;
+        }
+    }
+}
+
+TEST(Records, CleanFeaturesRoundTripWithAndWithoutZ)
+{
+    std::vector<Problem> problems;
+    const Feature input{9, awkward_geometry(true)};
+    const detail::CleanFeature cf = detail::clean_feature(input, 3, 1e-3, problems);
+    for (bool has_z : {true, false}) {
+        std::string bytes;
+        tiling::ByteWriter w(bytes);
+        tiling::put_clean_feature(w, cf, has_z);
+        tiling::ByteReader r(bytes, "test");
+        bool back_z = !has_z;
+        const detail::CleanFeature back = tiling::get_clean_feature(r, back_z);
+        EXPECT_EQ(back_z, has_z);
+        EXPECT_EQ(back.index, 3u);
+        EXPECT_EQ(back.id, 9);
+        EXPECT_EQ(back.shells, cf.shells);
+        EXPECT_EQ(back.holes, cf.holes);
+        ASSERT_EQ(back.rings.size(), cf.rings.size());
+        for (std::size_t k = 0; k < cf.rings.size(); ++k) {
+            ASSERT_EQ(back.rings[k].points.size(), cf.rings[k].points.size());
+            EXPECT_EQ(back.rings[k].hole, cf.rings[k].hole);
+            for (std::size_t i = 0; i < cf.rings[k].points.size(); ++i) {
+                EXPECT_EQ(bits(back.rings[k].points[i].x), bits(cf.rings[k].points[i].x));
+                EXPECT_EQ(has_z ? bits(back.rings[k].points[i].z) : 0, has_z ? bits(cf.rings[k].points[i].z) : 0);
+            }
+        }
+    }
+}
+
+class StoreTest : public ::testing::TestWithParam<bool> {
+protected:
+    std::unique_ptr<tiling::WorkStore> make()
+    {
+        if (!GetParam()) {
+            return tiling::make_memory_store();
+        }
+        m_dir = fs::temp_directory_path() / ("trisnap-store-" + std::to_string(::getpid()) + "-" +
+                                             ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(m_dir);
+        return tiling::make_directory_store(m_dir.string());
+    }
+    void TearDown() override
+    {
+        if (!m_dir.empty()) {
+            fs::remove_all(m_dir);
+        }
+    }
+    fs::path m_dir;
+};
+
+TEST_P(StoreTest, FilesAppearOnlyWhenCommitted)
+{
+    auto store = make();
+    {
+        auto f = store->create("a");
+        f->write("hello");
+        EXPECT_FALSE(store->exists("a"));
+    } // dropped without commit: nothing, not even a temporary file
+    EXPECT_FALSE(store->exists("a"));
+    if (GetParam()) {
+        EXPECT_TRUE(fs::is_empty(m_dir));
+    }
+    store->put("a", "first");
+    store->put("a", "second"); // replaces
+    EXPECT_EQ(store->get("a"), "second");
+    store->append("b", "x");
+    store->append("b", "yz");
+    EXPECT_EQ(store->get("b"), "xyz");
+    EXPECT_EQ(store->size("b"), 3u);
+    store->remove_all("b");
+    EXPECT_FALSE(store->exists("b"));
+    EXPECT_THROW(store->open("missing"), tiling::work_error);
+}
+
+TEST_P(StoreTest, RecordsStreamAndSeekAndRefuseTruncation)
+{
+    auto store = make();
+    std::vector<std::uint64_t> offsets;
+    {
+        auto f = store->create("r");
+        tiling::RecordWriter w(*f);
+        for (int i = 0; i < 1000; ++i) {
+            offsets.push_back(w.write(std::string(static_cast<std::size_t>(i % 37), static_cast<char>('a' + i % 26))));
+        }
+        f->commit();
+    }
+    auto in = store->open("r");
+    tiling::RecordReader reader(*in, 64); // a small buffer: records straddle refills
+    std::string record;
+    int n = 0;
+    while (reader.next(record)) {
+        ASSERT_EQ(record, std::string(static_cast<std::size_t>(n % 37), static_cast<char>('a' + n % 26)));
+        ++n;
+    }
+    EXPECT_EQ(n, 1000);
+    EXPECT_EQ(reader.at(offsets[500]), std::string(500 % 37, static_cast<char>('a' + 500 % 26)));
+    const std::string whole = store->get("r");
+    store->put("cut", whole.substr(0, whole.size() - 3));
+    auto cut = store->open("cut");
+    tiling::RecordReader cut_reader(*cut);
+    EXPECT_THROW(
+        {
+            while (cut_reader.next(record)) {
+            }
+        },
+        tiling::work_error);
+}
+
+INSTANTIATE_TEST_SUITE_P(Stores, StoreTest, ::testing::Values(false, true),
+                         [](const auto& info) { return info.param ? std::string("Directory") : std::string("Memory"); });
+
+TEST(VertexSample, DoesNotDependOnInputOrderAndKeepsEverythingUnderItsCap)
+{
+    const auto features = perturbed_grid_coverage(40, 40, 1.0, 0.2, 5, 2);
+    std::vector<Coord> pts;
+    for (const Feature& f : features) {
+        for (const Polygon& p : f.geometry.polygons) {
+            for (const Path& r : p.rings) {
+                pts.insert(pts.end(), r.begin(), r.end());
+            }
+        }
+    }
+    auto sample_of = [&](std::size_t cap, unsigned seed) {
+        std::vector<Coord> order = pts;
+        std::mt19937 rng(seed);
+        std::shuffle(order.begin(), order.end(), rng);
+        tiling::VertexSample s(cap);
+        for (const Coord& c : order) {
+            s.add(c.x, c.y);
+        }
+        tiling::PlanInput in = s.take();
+        std::vector<std::pair<double, double>> xy;
+        for (std::size_t i = 0; i < in.xs.size(); ++i) {
+            xy.emplace_back(in.xs[i], in.ys[i]);
+        }
+        std::sort(xy.begin(), xy.end());
+        return std::make_pair(in.level, xy);
+    };
+    const auto full = sample_of(pts.size(), 1);
+    EXPECT_EQ(full.first, 0);
+    EXPECT_EQ(full.second.size(), pts.size());
+    const auto a = sample_of(pts.size() / 10, 1);
+    const auto b = sample_of(pts.size() / 10, 2);
+    EXPECT_GE(a.first, 4);
+    EXPECT_LE(a.second.size(), pts.size() / 10);
+    EXPECT_GT(a.second.size(), pts.size() / 40);
+    EXPECT_EQ(a, b);
+}
+
+TEST(TilePlan, SurvivesSaveLoadAndSplits)
+{
+    const auto features = perturbed_grid_coverage(20, 20, 10.0, 0.2, 6);
+    tiling::PlanOptions o;
+    o.vertex_budget = 500;
+    tiling::TilePlan plan = tiling::make_plan(features, o);
+    const std::size_t leaves = plan.size();
+    const Region before = plan.core(3);
+    const double mid = std::isfinite(before.xmin) && std::isfinite(before.xmax) ? 0.5 * (before.xmin + before.xmax) : 100.0;
+    const std::size_t upper = plan.split_leaf(3, 0, mid);
+    EXPECT_EQ(upper, leaves);
+    EXPECT_EQ(plan.core(3).xmax, mid);
+    EXPECT_EQ(plan.core(upper).xmin, mid);
+    std::string bytes;
+    tiling::ByteWriter w(bytes);
+    plan.save(w);
+    tiling::ByteReader r(bytes, "plan");
+    const tiling::TilePlan back = tiling::TilePlan::load(r);
+    ASSERT_EQ(back.size(), plan.size());
+    std::mt19937_64 rng(1);
+    for (int i = 0; i < 2000; ++i) {
+        const double x = uniform(rng, -20, 220);
+        const double y = uniform(rng, -20, 220);
+        const std::size_t leaf = back.leaf_of(x, y);
+        EXPECT_EQ(leaf, plan.leaf_of(x, y));
+        EXPECT_TRUE(back.core(leaf).contains(x, y));
+    }
+}
+
+// A directory store, a memory pool small enough that the balanced plan's tiles must be split,
+// and a run stopped after a few tiles then continued: the untiled output, bit for bit.
+TEST(TiledRun, SmallPoolSplitsTilesAndAResumedRunEqualsUntiled)
+{
+    const double t = 0.01;
+    const auto input = perturbed_grid_coverage(40, 40, 1.0, 0.2, 7, 1, 0.004);
+    const SnapOptions options = options_at(t);
+    const SnapResult untiled = snap(input, options);
+    const fs::path dir = fs::temp_directory_path() / ("trisnap-run-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    stitch::TilingOptions tiling;
+    tiling.plan.vertex_budget = 100000; // one leaf, unless the pool forces more
+    tiling.threads = 2;
+    stitch::ScheduleOptions schedule;
+    schedule.threads = 2;
+    schedule.memory_pool = schedule.model.tile_bytes(3000);
+    std::size_t runs_first = 0;
+    {
+        auto store = tiling::make_directory_store(dir.string());
+        stitch::FeatureSpool spool(*store, t, 1000, 64); // a sampled plan, FIDs checked in runs
+        std::vector<Problem> problems;
+        for (std::size_t i = 0; i < input.size(); ++i) {
+            spool.add(i, input[i].id, input[i].geometry, problems);
+        }
+        const stitch::SpoolMeta meta = spool.finish();
+        EXPECT_TRUE(meta.fids_unique);
+        EXPECT_GT(meta.sample.level, 0);
+        stitch::TiledRun run(*store, options, tiling, schedule);
+        run.plan(meta);
+        EXPECT_GT(run.layout().plan.size(), 4u) << "the pool must have split the tiles";
+        for (std::uint64_t v : run.layout().bucket_vertices) {
+            EXPECT_LE(v, schedule.model.vertices_within(schedule.memory_pool));
+        }
+        int started = 0;
+        stitch::ScheduleOptions stopping = schedule;
+        stopping.check_cancel = [&] {
+            if (++started > 3) {
+                throw std::runtime_error("stop");
+            }
+        };
+        stitch::TiledRun interrupted(*store, options, tiling, stopping);
+        interrupted.plan(meta);
+        EXPECT_THROW(interrupted.snap(), std::runtime_error);
+        runs_first = interrupted.stats().tile_runs;
+        EXPECT_GT(interrupted.missing().size(), 0u);
+    }
+    auto store = tiling::make_directory_store(dir.string());
+    const std::string meta_bytes = store->get(stitch::files::spool_meta);
+    tiling::ByteReader r(meta_bytes, "meta");
+    const stitch::SpoolMeta meta = stitch::SpoolMeta::load(r);
+    stitch::TiledRun run(*store, options, tiling, schedule);
+    run.plan(meta);
+    const std::size_t live = run.groups().live(run.layout()).size();
+    const std::size_t missing = run.missing().size();
+    EXPECT_LT(missing, live) << "the first run finished no tile";
+    EXPECT_GE(live - missing, runs_first);
+    run.snap();
+    EXPECT_EQ(run.stats().tile_runs, missing) << "finished tiles ran again";
+    EXPECT_TRUE(run.missing().empty());
+    run.stitch();
+    const auto merger = run.output();
+    stitch::OutputItem item;
+    std::size_t n = 0;
+    while (merger->next(item)) {
+        const FeatureOutput& expected = untiled.features[item.seq];
+        ASSERT_EQ(expected.id, item.output.id);
+        EXPECT_EQ(to_wkt(expected.geometry), to_wkt(item.output.geometry)) << "feature " << expected.id;
+        ++n;
+    }
+    EXPECT_EQ(n, input.size());
+    fs::remove_all(dir);
+}
+
+} // namespace
+} // namespace trisnap

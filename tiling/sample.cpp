@@ -1,0 +1,67 @@
+#include "tiling/sample.hpp"
+
+#include <bit>
+#include <cmath>
+
+namespace trisnap::tiling {
+namespace {
+
+// splitmix64's finaliser: every input bit reaches every output bit.
+std::uint64_t mix(std::uint64_t z)
+{
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+} // namespace
+
+bool VertexSample::kept(double x, double y) const
+{
+    if (m_level == 0) {
+        return true;
+    }
+    // +0.0 so that -0 and 0 (the same point) hash alike.
+    const std::uint64_t h = mix(std::bit_cast<std::uint64_t>(x + 0.0) ^ mix(std::bit_cast<std::uint64_t>(y + 0.0)));
+    return (h >> (64 - m_level)) == 0;
+}
+
+void VertexSample::add(double x, double y)
+{
+    if (!std::isfinite(x) || !std::isfinite(y)) {
+        return;
+    }
+    m_extent.add(x, y);
+    ++m_vertices;
+    if (!kept(x, y)) {
+        return;
+    }
+    m_xs.push_back(x);
+    m_ys.push_back(y);
+    while (m_xs.size() > m_cap && m_level < 63) {
+        ++m_level;
+        std::size_t k = 0;
+        for (std::size_t i = 0; i < m_xs.size(); ++i) {
+            if (kept(m_xs[i], m_ys[i])) {
+                m_xs[k] = m_xs[i];
+                m_ys[k] = m_ys[i];
+                ++k;
+            }
+        }
+        m_xs.resize(k);
+        m_ys.resize(k);
+    }
+}
+
+PlanInput VertexSample::take()
+{
+    PlanInput in;
+    in.extent = m_extent;
+    in.vertices = m_vertices;
+    in.xs = std::move(m_xs);
+    in.ys = std::move(m_ys);
+    in.level = m_level;
+    return in;
+}
+
+} // namespace trisnap::tiling

@@ -1,0 +1,406 @@
+#include "tiling/work_store.hpp"
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <mutex>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <sys/statvfs.h>
+#include <unistd.h>
+
+namespace trisnap::tiling {
+namespace fs = std::filesystem;
+namespace {
+
+[[noreturn]] void fail(const std::string& path, const char* what)
+{
+    throw work_error(path + ": " + what + ": " + std::strerror(errno));
+}
+
+void write_all(int fd, const char* data, std::size_t n, const std::string& path)
+{
+    while (n > 0) {
+        const ssize_t k = ::write(fd, data, n);
+        if (k < 0 && errno == EINTR) {
+            continue;
+        }
+        if (k <= 0) {
+            fail(path, "cannot write");
+        }
+        data += k;
+        n -= static_cast<std::size_t>(k);
+    }
+}
+
+class DirOutFile : public OutFile {
+public:
+    DirOutFile(std::string path) : m_path(std::move(path)), m_temp(m_path + ".tmp-" + std::to_string(::getpid()))
+    {
+        m_fd = ::open(m_temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+        if (m_fd < 0) {
+            fail(m_temp, "cannot create");
+        }
+        m_buffer.reserve(k_buffer);
+    }
+    ~DirOutFile() override
+    {
+        if (m_fd >= 0) {
+            ::close(m_fd);
+        }
+        if (!m_committed) {
+            ::unlink(m_temp.c_str());
+        }
+    }
+    void write(std::string_view bytes) override
+    {
+        m_written += bytes.size();
+        if (m_buffer.size() + bytes.size() > k_buffer) {
+            flush();
+        }
+        if (bytes.size() >= k_buffer) {
+            write_all(m_fd, bytes.data(), bytes.size(), m_temp);
+            return;
+        }
+        m_buffer.append(bytes);
+    }
+    void commit() override
+    {
+        flush();
+        if (::fsync(m_fd) != 0) {
+            fail(m_temp, "cannot flush to disk");
+        }
+        const int fd = m_fd;
+        m_fd = -1;
+        if (::close(fd) != 0) {
+            fail(m_temp, "cannot close");
+        }
+        if (::rename(m_temp.c_str(), m_path.c_str()) != 0) {
+            fail(m_path, "cannot rename into place");
+        }
+        m_committed = true;
+    }
+    std::uint64_t bytes_written() const override { return m_written; }
+
+private:
+    static constexpr std::size_t k_buffer = 1 << 20;
+    void flush()
+    {
+        write_all(m_fd, m_buffer.data(), m_buffer.size(), m_temp);
+        m_buffer.clear();
+    }
+
+    std::string m_path;
+    std::string m_temp;
+    std::string m_buffer;
+    int m_fd = -1;
+    bool m_committed = false;
+    std::uint64_t m_written = 0;
+};
+
+class DirInFile : public InFile {
+public:
+    explicit DirInFile(std::string path) : m_path(std::move(path))
+    {
+        m_fd = ::open(m_path.c_str(), O_RDONLY | O_CLOEXEC);
+        if (m_fd < 0) {
+            fail(m_path, "cannot open");
+        }
+        struct stat st{};
+        if (::fstat(m_fd, &st) != 0) {
+            fail(m_path, "cannot stat");
+        }
+        m_size = static_cast<std::uint64_t>(st.st_size);
+    }
+    ~DirInFile() override { ::close(m_fd); }
+    std::size_t read(char* out, std::size_t n) override
+    {
+        for (;;) {
+            const ssize_t k = ::read(m_fd, out, n);
+            if (k < 0 && errno == EINTR) {
+                continue;
+            }
+            if (k < 0) {
+                fail(m_path, "cannot read");
+            }
+            return static_cast<std::size_t>(k);
+        }
+    }
+    void read_at(std::uint64_t offset, char* out, std::size_t n) override
+    {
+        while (n > 0) {
+            const ssize_t k = ::pread(m_fd, out, n, static_cast<off_t>(offset));
+            if (k < 0 && errno == EINTR) {
+                continue;
+            }
+            if (k <= 0) {
+                throw work_error(m_path + ": damaged work file: shorter than its records say");
+            }
+            out += k;
+            offset += static_cast<std::uint64_t>(k);
+            n -= static_cast<std::size_t>(k);
+        }
+    }
+    std::uint64_t size() const override { return m_size; }
+
+private:
+    std::string m_path;
+    int m_fd = -1;
+    std::uint64_t m_size = 0;
+};
+
+class DirectoryStore : public WorkStore {
+public:
+    explicit DirectoryStore(const std::string& dir) : m_dir(dir)
+    {
+        std::error_code ec;
+        fs::create_directories(m_dir, ec);
+        if (ec || !fs::is_directory(m_dir)) {
+            throw work_error(dir + ": cannot create the work directory: " + ec.message());
+        }
+    }
+    std::unique_ptr<OutFile> create(const std::string& name) override { return std::make_unique<DirOutFile>(path(name)); }
+    std::unique_ptr<InFile> open(const std::string& name) const override { return std::make_unique<DirInFile>(path(name)); }
+    bool exists(const std::string& name) const override { return fs::exists(path(name)); }
+    void remove(const std::string& name) override
+    {
+        if (::unlink(path(name).c_str()) != 0 && errno != ENOENT) {
+            fail(path(name), "cannot remove");
+        }
+    }
+    void remove_all(const std::string& prefix) override
+    {
+        for (const auto& entry : fs::directory_iterator(m_dir)) {
+            if (entry.path().filename().string().rfind(prefix, 0) == 0) {
+                remove(entry.path().filename().string());
+            }
+        }
+    }
+    void append(const std::string& name, std::string_view bytes) override
+    {
+        const std::string p = path(name);
+        const int fd = ::open(p.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+        if (fd < 0) {
+            fail(p, "cannot open for appending");
+        }
+        try {
+            write_all(fd, bytes.data(), bytes.size(), p);
+        } catch (...) {
+            ::close(fd);
+            throw;
+        }
+        if (::close(fd) != 0) {
+            fail(p, "cannot close");
+        }
+    }
+    std::uint64_t size(const std::string& name) const override
+    {
+        std::error_code ec;
+        const auto n = fs::file_size(path(name), ec);
+        return ec ? 0 : n;
+    }
+    std::uint64_t free_space() const override
+    {
+        struct statvfs st{};
+        if (::statvfs(m_dir.c_str(), &st) != 0) {
+            fail(m_dir, "cannot read the free space");
+        }
+        return static_cast<std::uint64_t>(st.f_bavail) * st.f_frsize;
+    }
+    bool on_disk() const override { return true; }
+    std::string where() const override { return "work directory " + m_dir; }
+
+private:
+    std::string path(const std::string& name) const { return (fs::path(m_dir) / name).string(); }
+    std::string m_dir;
+};
+
+using Blob = std::shared_ptr<const std::string>;
+
+class MemoryStore;
+
+class MemOutFile : public OutFile {
+public:
+    MemOutFile(MemoryStore& store, std::string name) : m_store(store), m_name(std::move(name)) {}
+    void write(std::string_view bytes) override { m_data.append(bytes); }
+    void commit() override;
+    std::uint64_t bytes_written() const override { return m_data.size(); }
+
+private:
+    MemoryStore& m_store;
+    std::string m_name;
+    std::string m_data;
+};
+
+class MemInFile : public InFile {
+public:
+    explicit MemInFile(Blob data) : m_data(std::move(data)) {}
+    std::size_t read(char* out, std::size_t n) override
+    {
+        const std::size_t k = std::min(n, m_data->size() - m_pos);
+        std::memcpy(out, m_data->data() + m_pos, k);
+        m_pos += k;
+        return k;
+    }
+    void read_at(std::uint64_t offset, char* out, std::size_t n) override
+    {
+        if (offset > m_data->size() || n > m_data->size() - offset) {
+            throw work_error("damaged work file in memory: shorter than its records say");
+        }
+        std::memcpy(out, m_data->data() + offset, n);
+    }
+    std::uint64_t size() const override { return m_data->size(); }
+
+private:
+    Blob m_data;
+    std::size_t m_pos = 0;
+};
+
+class MemoryStore : public WorkStore {
+public:
+    std::unique_ptr<OutFile> create(const std::string& name) override { return std::make_unique<MemOutFile>(*this, name); }
+    std::unique_ptr<InFile> open(const std::string& name) const override { return std::make_unique<MemInFile>(blob(name)); }
+    bool exists(const std::string& name) const override
+    {
+        const std::lock_guard lock(m_mutex);
+        return m_files.count(name) != 0;
+    }
+    void remove(const std::string& name) override
+    {
+        const std::lock_guard lock(m_mutex);
+        m_files.erase(name);
+    }
+    void remove_all(const std::string& prefix) override
+    {
+        const std::lock_guard lock(m_mutex);
+        std::erase_if(m_files, [&](const auto& kv) { return kv.first.rfind(prefix, 0) == 0; });
+    }
+    void append(const std::string& name, std::string_view bytes) override
+    {
+        const std::lock_guard lock(m_mutex);
+        std::shared_ptr<std::string>& b = m_files[name];
+        if (!b) {
+            b = std::make_shared<std::string>();
+        } else if (b.use_count() > 1) { // someone reads it: leave them their copy
+            b = std::make_shared<std::string>(*b);
+        }
+        b->append(bytes);
+    }
+    std::uint64_t size(const std::string& name) const override
+    {
+        const std::lock_guard lock(m_mutex);
+        auto it = m_files.find(name);
+        return it == m_files.end() ? 0 : it->second->size();
+    }
+    std::uint64_t free_space() const override { return UINT64_MAX; }
+    bool on_disk() const override { return false; }
+    std::string where() const override { return "memory"; }
+
+    void install(const std::string& name, std::string data)
+    {
+        const std::lock_guard lock(m_mutex);
+        m_files[name] = std::make_shared<std::string>(std::move(data));
+    }
+
+private:
+    Blob blob(const std::string& name) const
+    {
+        const std::lock_guard lock(m_mutex);
+        auto it = m_files.find(name);
+        if (it == m_files.end()) {
+            throw work_error("work file " + name + " is missing");
+        }
+        return it->second;
+    }
+
+    mutable std::mutex m_mutex;
+    std::map<std::string, std::shared_ptr<std::string>> m_files;
+};
+
+void MemOutFile::commit() { m_store.install(m_name, std::move(m_data)); }
+
+} // namespace
+
+void WorkStore::put(const std::string& name, std::string_view bytes)
+{
+    std::unique_ptr<OutFile> f = create(name);
+    f->write(bytes);
+    f->commit();
+}
+
+std::string WorkStore::get(const std::string& name) const
+{
+    std::unique_ptr<InFile> f = open(name);
+    std::string out(f->size(), '\0');
+    f->read_at(0, out.data(), out.size());
+    return out;
+}
+
+std::unique_ptr<WorkStore> make_directory_store(const std::string& directory)
+{
+    return std::make_unique<DirectoryStore>(directory);
+}
+
+std::unique_ptr<WorkStore> make_memory_store() { return std::make_unique<MemoryStore>(); }
+
+std::uint64_t RecordWriter::write(std::string_view record)
+{
+    const std::uint64_t offset = m_file.bytes_written();
+    const auto n = static_cast<std::uint32_t>(record.size());
+    m_file.write(std::string_view(reinterpret_cast<const char*>(&n), sizeof n));
+    m_file.write(record);
+    return offset;
+}
+
+bool RecordReader::fill(std::size_t n)
+{
+    if (m_buffer.size() - m_pos >= n) {
+        return true;
+    }
+    m_buffer.erase(0, m_pos);
+    m_pos = 0;
+    std::size_t want = std::max(n, m_capacity);
+    const std::size_t have = m_buffer.size();
+    m_buffer.resize(have + want);
+    std::size_t got = 0;
+    while (got < want) {
+        const std::size_t k = m_file.read(m_buffer.data() + have + got, want - got);
+        if (k == 0) {
+            break;
+        }
+        got += k;
+    }
+    m_buffer.resize(have + got);
+    return m_buffer.size() >= n;
+}
+
+bool RecordReader::next(std::string& record)
+{
+    if (!fill(sizeof(std::uint32_t))) {
+        if (m_buffer.size() != m_pos) {
+            throw work_error("damaged work file: a record is cut short");
+        }
+        return false;
+    }
+    std::uint32_t n = 0;
+    std::memcpy(&n, m_buffer.data() + m_pos, sizeof n);
+    if (!fill(sizeof n + n)) {
+        throw work_error("damaged work file: a record is cut short");
+    }
+    record.assign(m_buffer, m_pos + sizeof n, n);
+    m_pos += sizeof n + n;
+    return true;
+}
+
+std::string RecordReader::at(std::uint64_t offset)
+{
+    std::uint32_t n = 0;
+    m_file.read_at(offset, reinterpret_cast<char*>(&n), sizeof n);
+    std::string record(n, '\0');
+    m_file.read_at(offset + sizeof n, record.data(), n);
+    return record;
+}
+
+} // namespace trisnap::tiling

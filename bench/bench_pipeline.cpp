@@ -177,11 +177,10 @@ void bm_pipeline(benchmark::State& state, const DataSet& data, const OutputForma
         memory.reset();
         state.ResumeTiming();
         try {
-            const auto start = Clock::now();
-            Plan plan = make_plan(args, config);
-            const double open_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+            Plan plan;
             Progress progress(args.progress, false);
-            totals.add(run_pipeline(plan, progress), open_seconds);
+            const RunResult r = snap_run(args, config, progress, plan);
+            totals.add(r, r.seconds_open);
         } catch (const std::exception& e) {
             state.SkipWithError((std::string("pipeline failed: ") + e.what()).c_str());
             break;

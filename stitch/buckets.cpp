@@ -393,6 +393,10 @@ void BucketMaker::split_oversize()
             queue.push_back(leaf);
         }
     }
+    if (!queue.empty() && m_tiling.plan.single) {
+        const std::uint64_t n = m_layout.bucket_vertices[queue.front()];
+        throw budget_error("--no-tiles snaps the whole layer in one triangulation of " + std::to_string(n) + " vertices", n);
+    }
     while (!queue.empty()) {
         const std::size_t leaf = queue.front();
         queue.pop_front();

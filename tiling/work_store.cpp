@@ -201,6 +201,15 @@ public:
         const auto n = fs::file_size(path(name), ec);
         return ec ? 0 : n;
     }
+    std::uint64_t total_bytes() const override
+    {
+        std::uint64_t n = 0;
+        std::error_code ec;
+        for (const auto& entry : fs::directory_iterator(m_dir, ec)) {
+            n += entry.is_regular_file(ec) ? entry.file_size(ec) : 0;
+        }
+        return n;
+    }
     std::uint64_t free_space() const override
     {
         struct statvfs st{};
@@ -293,6 +302,15 @@ public:
         const std::lock_guard lock(m_mutex);
         auto it = m_files.find(name);
         return it == m_files.end() ? 0 : it->second->size();
+    }
+    std::uint64_t total_bytes() const override
+    {
+        const std::lock_guard lock(m_mutex);
+        std::uint64_t n = 0;
+        for (const auto& kv : m_files) {
+            n += kv.second->size();
+        }
+        return n;
     }
     std::uint64_t free_space() const override { return UINT64_MAX; }
     bool on_disk() const override { return false; }

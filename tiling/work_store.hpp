@@ -55,6 +55,8 @@ public:
     virtual void remove_all(const std::string& prefix) = 0;
     virtual void append(const std::string& name, std::string_view bytes) = 0;
     virtual std::uint64_t size(const std::string& name) const = 0;
+    /// Bytes of all files now.
+    virtual std::uint64_t total_bytes() const = 0;
     /// Bytes free where the files go (the file system's; unlimited for memory).
     virtual std::uint64_t free_space() const = 0;
     virtual bool on_disk() const = 0;

@@ -1,4 +1,5 @@
-// `trisnap snap IN OUT --tolerance T ...`: the whole layer through one engine call.
+// `trisnap snap IN OUT --tolerance T ...`: read, tile, snap, stitch and write one layer, in
+// memory or out of core under a memory limit (app/budget.hpp, app/pipeline.hpp).
 #include "app/command.hpp"
 #include "app/options.hpp"
 #include "app/pipeline.hpp"
@@ -40,8 +41,8 @@ public:
         const ThreadLimit limit(config.run.threads);
         const auto start = std::chrono::steady_clock::now();
         Progress progress(m_args.progress, m_args.json_progress);
-        Plan plan = make_plan(m_args, config);
-        const RunResult result = run_pipeline(plan, progress);
+        Plan plan;
+        const RunResult result = snap_run(m_args, config, progress, plan);
         const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (!m_args.report.empty()) write_report(m_args.report, plan, result, total);
         if (m_args.quiet == 0) print_summary(std::cout, plan, result, total);

@@ -2,6 +2,7 @@
 
 #include "app/command.hpp"
 #include "config/errors.hpp"
+#include "config/size.hpp"
 
 #include <cmath>
 #include <iostream>
@@ -50,6 +51,9 @@ void add_run_options(CLI::App& c, SnapArgs& a)
     c.add_option("--halo", a.halo, "tile halo width as a factor of the tolerance, >= 2 ([tiling] halo)");
     c.add_option("--halo-max-growth", a.halo_max_growth, "times a tile's halo may double when a snap cascade reaches its core ([tiling] max_growth)");
     c.add_flag("--no-tiles", a.no_tiles, "one triangulation for the whole layer ([tiling] no_tiles)");
+    c.add_option("--memory-limit", a.memory_limit, "out of core under this much memory, e.g. 2GiB, 512MiB ([run] memory_limit)");
+    c.add_option("--work-dir", a.work_dir, "directory for the work files of an out-of-core run (default: .OUT.trisnap-work beside OUT)");
+    c.add_flag("--resume", a.resume, "continue the run whose work directory is there (same command and input)");
     c.add_option("--progress", a.progress, "progress bar: auto (TTY only), always, never")
         ->check(CLI::IsMember({"auto", "always", "never"}));
     c.add_flag("--json-progress", a.json_progress, "progress as JSON lines on stderr");
@@ -100,6 +104,9 @@ Config resolve_config(const SnapArgs& args)
     overlay(args.max_drift_factor, config.snap.max_drift_factor);
     overlay(args.max_operations, config.snap.max_operations);
     overlay(args.threads, config.run.threads);
+    if (args.memory_limit) {
+        config.run.memory_limit = parse_size(*args.memory_limit, "--memory-limit");
+    }
     overlay(args.tile_size, config.tiling.size);
     overlay(args.tile_vertex_budget, config.tiling.vertex_budget);
     overlay(args.halo, config.tiling.halo);

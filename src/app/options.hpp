@@ -35,6 +35,9 @@ struct SnapArgs {
     std::optional<std::int64_t> tile_vertex_budget;
     std::optional<double> halo;
     std::optional<int> halo_max_growth;
+    std::optional<std::string> memory_limit;
+    std::string work_dir;
+    bool resume = false;
     bool no_tiles = false;
     bool overwrite = false;
     bool strict = false;

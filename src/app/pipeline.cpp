@@ -1,206 +1,260 @@
 #include "app/pipeline.hpp"
 
+#include "app/memory.hpp"
+#include "app/phases.hpp"
+#include "app/version.hpp"
 #include "config/errors.hpp"
-
-#include "app/interrupt.hpp"
 #include "io/io_error.hpp"
-#include "io/ogr_geometry.hpp"
-#include "io/reader.hpp"
+#include "io/writer.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
+#include <filesystem>
 #include <limits>
-#include <set>
-#include <stdexcept>
-#include <unordered_set>
 
 namespace trisnap {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+constexpr std::uint64_t k_mib = 1024 * 1024;
 
 double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-/// Everything read from the layer, in input order.
-struct Loaded {
-    std::vector<InputFeature> records;
-    std::vector<Feature> features;          ///< what the engine gets
-    std::vector<std::ptrdiff_t> engine_of;  ///< record -> index in features, or -1
-    bool renumber = false;                  ///< engine ids are record indices, not FIDs
+class Pipeline {
+public:
+    Pipeline(Plan& plan, WorkDir& work, const RunBudget& budget, Progress& progress)
+        : m_plan(plan), m_work(work), m_budget(budget), m_progress(progress)
+    {
+        m_result.budget = budget;
+        m_result.resumed = work.resumed();
+        m_result.tiled = !plan.tiling.plan.single;
+    }
+    RunResult run();
+
+private:
+    template <class F>
+    void phase(const char* name, F&& body)
+    {
+        const auto start = Clock::now();
+        body();
+        m_result.phases.push_back(PhaseRecord{name, since(start), peak_rss()});
+        m_result.spool_bytes = std::max(m_result.spool_bytes, m_work.bytes());
+        spdlog::info("{}: {:.2f} s, peak memory {}, work files {}", name, m_result.phases.back().seconds,
+                     format_size(peak_rss()), format_size(m_work.bytes()));
+    }
+    ReadSummary read();
+    void check_disk(const stitch::SpoolMeta& meta) const;
+    std::uint64_t memory_pool() const;
+    void snap_tiles(stitch::TiledRun& run, const stitch::SpoolMeta& meta);
+    [[noreturn]] void too_small(const stitch::budget_error& e) const;
+
+    Plan& m_plan;
+    WorkDir& m_work;
+    const RunBudget& m_budget;
+    Progress& m_progress;
+    RunResult m_result;
+    InterruptGuard m_interrupt;
+    stitch::MemoryModel m_model;
 };
 
-std::size_t vertices_of(const Geometry& g)
+// With a limit, the plan's sample and the FID check's buffer take a sixteenth of it each;
+// without, the sample holds up to 16 M vertices (256 MiB).
+ReadSummary Pipeline::read()
 {
-    std::size_t n = 0;
-    for (const Polygon& p : g.polygons)
-        for (const Path& r : p.rings) n += r.size();
-    for (const Path& l : g.lines) n += l.size();
-    return n;
-}
-
-/// FIDs are used as engine ids unless some are missing or repeated.
-bool fids_usable(const std::vector<InputFeature>& records)
-{
-    std::unordered_set<std::int64_t> seen;
-    for (const InputFeature& r : records)
-        if (r.fid == OGRNullFID || !seen.insert(r.fid).second) return false;
-    return true;
-}
-
-void build_engine_input(Loaded& loaded, RunResult& result)
-{
-    loaded.renumber = !fids_usable(loaded.records);
-    loaded.engine_of.assign(loaded.records.size(), -1);
-    for (std::size_t i = 0; i < loaded.records.size(); ++i) {
-        InputFeature& r = loaded.records[i];
-        if (!r.geometry) continue;
-        loaded.engine_of[i] = static_cast<std::ptrdiff_t>(loaded.features.size());
-        result.input_vertices += vertices_of(*r.geometry);
-        const std::int64_t id = loaded.renumber ? static_cast<std::int64_t>(i) : r.fid;
-        loaded.features.push_back(Feature{id, std::move(*r.geometry)});
-        r.geometry.reset();
+    ReadSummary s;
+    if (m_work.resumed() && load_read(m_work.store(), s)) {
+        spdlog::info("read: taken from the work directory (resumed)");
+        return s;
     }
-    result.snapped = loaded.features.size();
-    result.fids_renumbered = loaded.renumber;
+    const std::uint64_t limit = m_budget.memory_limit;
+    const std::size_t sample_cap = limit ? static_cast<std::size_t>(limit / 16 / 16) : std::size_t{16} << 20;
+    const std::size_t fid_buffer = limit ? static_cast<std::size_t>(limit / 16 / 8) : std::numeric_limits<std::size_t>::max();
+    return read_layer(m_plan, m_work.store(), sample_cap, fid_buffer, m_progress, m_interrupt);
 }
 
-Loaded read_all(Plan& plan, Progress& progress, RunResult& result)
+// The spool needs about features.bin again for the buckets and as much for the results.
+void Pipeline::check_disk(const stitch::SpoolMeta& meta) const
 {
-    const auto start = Clock::now();
-    Loaded loaded;
-    LayerReader reader(*plan.dataset, *plan.layer);
-    progress.start("read", plan.feature_count >= 0 ? plan.feature_count : reader.count_hint());
-    while (auto feature = reader.next()) {
-        if (feature->problem) result.problems.push_back(*feature->problem);
-        if (feature->rejected) ++result.rejected;
-        loaded.records.push_back(std::move(*feature));
-        progress.update(static_cast<std::int64_t>(loaded.records.size()));
+    if (!m_work.on_disk()) {
+        return;
     }
-    progress.finish();
-    result.input = loaded.records.size();
-    if (loaded.records.empty())
-        throw io_error(plan.input_path, plan.layer->GetName(),
-                       plan.layer->GetAttrQueryString() || plan.layer->GetSpatialFilter()
-                           ? "no feature matches --where/--bbox: nothing to snap"
-                           : "the layer is empty: nothing to snap");
-    build_engine_input(loaded, result);
-    result.seconds_read = since(start);
-    return loaded;
+    const std::uint64_t features = m_work.store().total_bytes();
+    const std::uint64_t need = 2 * features + 64 * k_mib;
+    const std::uint64_t free = m_work.store().free_space();
+    if (free < need) {
+        throw io_error(m_work.path(), "", fmt::format("not enough free disk for the work files: about {} more are needed "
+                                                      "for {} features, {} are free; give --work-dir on a larger disk",
+                                                      format_size(need), meta.spooled, format_size(free)));
+    }
 }
 
-SnapResult run_engine(const Loaded& loaded, const Plan& plan, Progress& progress, RunResult& result)
+// What the tiles in flight may take: the limit less what the process holds now and the margin
+// for GDAL's caches and the buffers.
+std::uint64_t Pipeline::memory_pool() const
 {
-    const auto start = Clock::now();
-    SnapResult snapped;
+    if (m_budget.memory_limit == 0) {
+        return 0;
+    }
+    const std::uint64_t held = current_rss() + reserved_margin(m_budget);
+    const std::uint64_t least = m_model.tile_bytes(1000);
+    if (m_budget.memory_limit < held + least) {
+        throw argument_error(fmt::format("--memory-limit {} is too small: the process holds {} before any tile, and the "
+                                         "smallest tile needs {}; the smallest limit that would work is about {}",
+                                         format_size(m_budget.memory_limit), format_size(held), format_size(least),
+                                         format_size(held + m_model.tile_bytes(20000))));
+    }
+    return m_budget.memory_limit - held;
+}
+
+// The smallest limit under which the tile that did not fit would run alone.
+void Pipeline::too_small(const stitch::budget_error& e) const
+{
+    const std::uint64_t held = current_rss() + reserved_margin(m_budget);
+    const std::uint64_t need = held + m_model.tile_bytes(e.vertices());
+    throw argument_error(fmt::format("--memory-limit {} is too small: {}; the smallest limit that would work is about {}",
+                                     format_size(m_budget.memory_limit), e.what(), format_size(need + need / 8)));
+}
+
+void Pipeline::snap_tiles(stitch::TiledRun& run, const stitch::SpoolMeta& meta)
+{
+    auto on_tiles = [&](std::uint64_t done, std::uint64_t) { m_progress.update(static_cast<std::int64_t>(done)); };
     try {
-        if (plan.tiled) {
-            progress.start("snap", -1); // the phase names are an interface (--json-progress); tiles done are the units
-            stitch::TiledResult tiled = stitch::snap_tiled(loaded.features, plan.options, plan.tiling,
-                                                           [&](std::size_t done, std::size_t) { progress.update(static_cast<std::int64_t>(done)); });
-            snapped = std::move(tiled.result);
-            result.tiled = true;
-            result.tiles = std::move(tiled.tiles);
-            result.stitch = tiled.stitch;
-        } else {
-            progress.start("snap", static_cast<std::int64_t>(loaded.features.size()));
-            snapped = snap(loaded.features, plan.options);
-            progress.update(static_cast<std::int64_t>(loaded.features.size()));
-        }
+        phase("spool", [&] {
+            m_progress.start("spool", static_cast<std::int64_t>(2 * meta.spooled));
+            run.plan(meta, [&](std::uint64_t done, std::uint64_t) { m_progress.update(static_cast<std::int64_t>(done)); });
+            m_progress.finish();
+        });
+        phase("snap", [&] {
+            std::uint64_t total = 0;
+            for (std::size_t g : run.missing()) {
+                for (std::size_t leaf : run.groups().leaves[g]) {
+                    total += run.layout().bucket_vertices[leaf];
+                }
+            }
+            m_progress.start("snap", static_cast<std::int64_t>(total));
+            run.snap(on_tiles);
+            m_progress.finish();
+        });
+        phase("stitch", [&] {
+            m_progress.start("stitch", -1);
+            run.stitch(on_tiles);
+            m_progress.finish();
+        });
+    } catch (const stitch::budget_error& e) {
+        too_small(e);
     } catch (const std::invalid_argument& e) { // options the data made unusable (a tile size too small for the extent)
         throw argument_error(e.what());
-    } catch (const std::exception& e) {
-        throw std::runtime_error(std::string("snapping failed: ") + e.what());
-    }
-    if (snapped.features.size() != loaded.features.size())
-        throw std::runtime_error("snapping failed: the engine returned a different number of features");
-    progress.finish();
-    result.stats = snapped.stats;
-    result.seconds_snap = since(start);
-    return snapped;
-}
-
-/// Engine problems carry engine ids; reports carry input FIDs.
-void collect_engine_problems(const Loaded& loaded, const SnapResult& snapped, RunResult& result)
-{
-    for (Problem p : snapped.problems) {
-        if (loaded.renumber && p.feature_id >= 0 && static_cast<std::size_t>(p.feature_id) < loaded.records.size())
-            p.feature_id = loaded.records[static_cast<std::size_t>(p.feature_id)].fid;
-        result.problems.push_back(std::move(p));
     }
 }
 
-Problem feature_problem(std::int64_t fid, ProblemCode code, std::string message)
+RunResult Pipeline::run()
 {
-    Problem p;
-    p.feature_id = fid;
-    p.code = code;
-    p.message = std::move(message);
-    p.x = p.y = std::numeric_limits<double>::quiet_NaN();
-    return p;
-}
-
-/// The geometry to write for record i, or nullptr with `dropped` set when the engine returned nothing.
-OGRGeometry* output_geometry(Loaded& loaded, const SnapResult& snapped, std::size_t i, bool& dropped)
-{
-    InputFeature& r = loaded.records[i];
-    dropped = false;
-    if (loaded.engine_of[i] < 0) return r.feature->StealGeometry(); // passed through unchanged
-    const FeatureOutput& out = snapped.features[static_cast<std::size_t>(loaded.engine_of[i])];
-    dropped = out.geometry.empty();
-    return dropped ? nullptr : to_ogr(out.geometry, r.input_type);
-}
-
-void write_all(Plan& plan, Loaded& loaded, const SnapResult& snapped, RunResult& result, Progress& progress)
-{
-    const auto start = Clock::now();
-    plan.write.renumber = loaded.renumber;
-    LayerWriter writer(plan.write, *plan.layer);
-    const InterruptGuard interrupt;
-    std::set<std::int64_t> with_problem;
-    for (const Problem& p : result.problems) with_problem.insert(p.feature_id);
-    progress.start("write", static_cast<std::int64_t>(loaded.records.size()));
-    for (std::size_t i = 0; i < loaded.records.size(); ++i) {
-        InputFeature& r = loaded.records[i];
-        progress.update(static_cast<std::int64_t>(i));
-        interrupt.check();
-        if (r.rejected) continue;
-        bool dropped = false;
-        OGRGeometry* geometry = output_geometry(loaded, snapped, i, dropped);
-        if (dropped) {
-            ++result.dropped;
-            if (!with_problem.count(r.fid))
-                result.problems.push_back(feature_problem(r.fid, r.input_type == wkbPolygon || r.input_type == wkbMultiPolygon
-                    ? ProblemCode::collapsed_polygon : ProblemCode::collapsed_line, "the feature vanished when snapped; not written"));
-            continue;
+    ReadSummary read_summary;
+    phase("plan", [&] { read_summary = read(); });
+    m_result.input = read_summary.records;
+    m_result.rejected = read_summary.rejected;
+    m_result.input_vertices = read_summary.input_vertices;
+    m_result.snapped = read_summary.meta.spooled;
+    m_result.fids_renumbered = !read_summary.meta.fids_unique;
+    m_result.problems = std::move(read_summary.problems);
+    m_result.seconds_read = m_result.phases.back().seconds;
+    check_disk(read_summary.meta);
+    // The output is created now, before any snapping: a layer or field the driver refuses stops
+    // the run before the long part.
+    m_plan.write.renumber = m_result.fids_renumbered;
+    LayerWriter writer(m_plan.write, *m_plan.layer);
+    stitch::ScheduleOptions schedule;
+    schedule.threads = m_plan.tiling.threads;
+    schedule.model = m_model;
+    schedule.memory_pool = m_result.memory_pool = memory_pool();
+    schedule.check_cancel = [this] { m_interrupt.check(); };
+    stitch::TiledRun run(m_work.store(), m_plan.options, m_plan.tiling, schedule);
+    const auto snap_start = Clock::now();
+    snap_tiles(run, read_summary.meta);
+    m_result.seconds_snap = since(snap_start);
+    phase("write", [&] {
+        const std::unique_ptr<stitch::OutputMerger> merger = run.output();
+        write_layer(m_plan, m_work.store(), *merger, writer, m_result, m_progress, m_interrupt);
+        m_result.stats = merger->counts().stats;
+        m_result.tiles = merger->tiles();
+        m_result.stitch = run.stats();
+        m_result.stitch.copied_features = merger->counts().copied;
+        m_result.stitch.assembled_features = merger->counts().assembled;
+        for (const stitch::TileReport& t : m_result.tiles) {
+            m_result.stitch.halo_growths += static_cast<std::size_t>(t.growths);
+            m_result.stitch.unbounded_cascades += t.cascade_unbounded ? 1 : 0;
         }
-        if (std::string error = writer.write(*r.feature, r.fid, geometry); !error.empty()) {
-            ++result.unwritable;
-            result.problems.push_back(feature_problem(r.fid, ProblemCode::unwritable_feature, error));
-        }
-        r.feature.reset();
+    });
+    m_result.seconds_write = m_result.phases.back().seconds;
+    std::stable_sort(m_result.problems.begin(), m_result.problems.end(), [](const Problem& a, const Problem& b) {
+        return a.feature_id != b.feature_id ? a.feature_id < b.feature_id : a.code < b.code;
+    });
+    return std::move(m_result);
+}
+
+nlohmann::json input_files(const Plan& plan)
+{
+    nlohmann::json files = nlohmann::json::array();
+    char** list = plan.dataset->GetFileList();
+    for (char** f = list; f && *f; ++f) {
+        std::error_code ec;
+        const std::filesystem::path p = std::filesystem::weakly_canonical(*f, ec);
+        const auto size = std::filesystem::file_size(p, ec);
+        const auto time = std::filesystem::last_write_time(p, ec).time_since_epoch().count();
+        files.push_back({{"path", p.string()}, {"size", ec ? 0 : size}, {"mtime", static_cast<std::int64_t>(time)}});
     }
-    progress.update(static_cast<std::int64_t>(loaded.records.size()));
-    progress.finish();
-    interrupt.check();
-    writer.commit();
-    result.written = writer.written();
-    result.seconds_write = since(start);
+    CSLDestroy(list);
+    return files;
 }
 
 } // namespace
 
-RunResult run_pipeline(Plan& plan, Progress& progress)
+RunResult run_pipeline(Plan& plan, WorkDir& work, const RunBudget& budget, Progress& progress)
 {
-    RunResult result;
-    Loaded loaded = read_all(plan, progress, result);
-    const SnapResult snapped = run_engine(loaded, plan, progress, result);
-    collect_engine_problems(loaded, snapped, result);
-    write_all(plan, loaded, snapped, result, progress);
-    std::stable_sort(result.problems.begin(), result.problems.end(), [](const Problem& a, const Problem& b) {
-        return a.feature_id != b.feature_id ? a.feature_id < b.feature_id : a.code < b.code;
-    });
+    return Pipeline(plan, work, budget, progress).run();
+}
+
+RunResult snap_run(const SnapArgs& args, const Config& config, Progress& progress, Plan& plan)
+{
+    if (args.input.empty() || args.output.empty()) {
+        throw argument_error(std::string("missing ") + (args.input.empty() ? "IN" : "OUT") + ": trisnap snap IN OUT --tolerance T");
+    }
+    const RunBudget budget = choose_budget(args, config);
+    WorkDir work = budget.on_disk ? WorkDir::on_disk(budget.work_dir, budget.resume) : WorkDir::in_memory();
+    apply_gdal_budget(budget);
+    const auto start = Clock::now();
+    plan = make_plan(args, config);
+    work.bind(run_manifest(plan));
+    const double open = since(start);
+    RunResult result = run_pipeline(plan, work, budget, progress);
+    result.seconds_open = open;
+    work.finish();
     return result;
+}
+
+// Everything that changes the output, and the input's files as they are now: a work directory
+// is continued only by the very same run.
+std::string run_manifest(const Plan& plan)
+{
+    const SnapOptions& o = plan.options;
+    const stitch::TilingOptions& t = plan.tiling;
+    nlohmann::ordered_json m = {
+        {"tool", "trisnap"},
+        {"version", k_version},
+        {"input", {{"path", plan.input_path}, {"files", input_files(plan)}, {"layer", plan.layer->GetName()},
+                   {"where", plan.layer->GetAttrQueryString() ? plan.layer->GetAttrQueryString() : ""},
+                   {"bbox", plan.bbox}}},
+        {"snap", {{"tolerance", fmt::format("{:a}", o.tolerance)}, {"edge_separation", o.edge_separation},
+                  {"sliver_factor", o.sliver_factor}, {"grid", o.grid}, {"max_drift_factor", o.max_drift_factor},
+                  {"max_operations", o.max_operations}}},
+        {"tiling", {{"single", t.plan.single}, {"size", t.plan.tile_size}, {"vertex_budget", t.plan.vertex_budget},
+                    {"halo", t.halo_factor}, {"max_growth", t.max_growth}}},
+    };
+    return m.dump(2);
 }
 
 } // namespace trisnap

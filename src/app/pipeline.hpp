@@ -1,16 +1,35 @@
 #pragma once
-// Executes a Plan: read the layer, snap it in one engine call, write the result in input order.
-// Accounting invariant: input == written + rejected + dropped + unwritable; every feature
-// not written has at least one problem carrying its input FID.
+// Executes a Plan as a stream of bounded phases over a work store (memory or a work directory):
+//   plan   - the layer read once (geometries only: attributes are read again when writing),
+//            cleaned into features.bin with a bounded sample of vertices for the tile plan;
+//   spool  - the tile plan, each tile's reach box, each tile's bucket (split to the budget);
+//   snap   - the tiles, in parallel, as many at once as the memory pool holds;
+//   stitch - the seam check, merge-and-rerun;
+//   write  - the layer read again with its attributes, in step with the stitched features,
+//            written in input order.
+// Every phase's files are committed in the store, so with a work directory a run that stopped
+// (killed, out of memory, a node lost) continues with --resume and writes the same bytes.
+// Accounting invariant: input == written + rejected + dropped + unwritable; every feature not
+// written has at least one problem carrying its input FID.
+#include "app/budget.hpp"
 #include "app/plan.hpp"
 #include "app/progress.hpp"
+#include "app/work_dir.hpp"
 #include "core/problems.hpp"
 #include "core/snap.hpp"
 #include "stitch/tiled_snap.hpp"
 
+#include <string>
 #include <vector>
 
 namespace trisnap {
+
+/// Time and peak resident memory (so far) at the end of one phase.
+struct PhaseRecord {
+    std::string name;
+    double seconds = 0;
+    std::uint64_t peak_rss = 0;
+};
 
 struct RunResult {
     std::vector<Problem> problems; ///< feature_id is the input FID; sorted by FID, then code
@@ -24,14 +43,29 @@ struct RunResult {
     bool fids_renumbered = false;  ///< input FIDs were missing or duplicated
     SnapStats stats;
     bool tiled = false;
-    std::vector<stitch::TileReport> tiles; ///< executed tiles, by first plan leaf
+    std::vector<stitch::TileReport> tiles; ///< executed tiles, by group
     stitch::StitchStats stitch;
     double seconds_read = 0.0;
-    double seconds_snap = 0.0;
+    double seconds_snap = 0.0;     ///< plan + snap + stitch
     double seconds_write = 0.0;
+    std::vector<PhaseRecord> phases;
+    RunBudget budget;
+    std::uint64_t memory_pool = 0; ///< bytes the tiles in flight could take (0: not bounded)
+    std::uint64_t spool_bytes = 0; ///< the work files at their largest
+    bool resumed = false;
+    double seconds_open = 0;       ///< opening the input and checking the plan
 };
 
-/// Runs the plan. Throws io_error for I/O failures and an empty selection.
-RunResult run_pipeline(Plan& plan, Progress& progress);
+/// Runs the plan. Throws io_error for I/O failures and an empty selection, argument_error when
+/// the memory limit is too small (naming the feature or tile and the smallest limit that works).
+RunResult run_pipeline(Plan& plan, WorkDir& work, const RunBudget& budget, Progress& progress);
+
+/// A snap run as the CLI makes it: the budget, the work directory (continued with --resume),
+/// the plan (opens the input; `plan` receives it), the pipeline; the work directory is removed
+/// after success. `seconds_open` of the result is the plan's time.
+RunResult snap_run(const SnapArgs& args, const Config& config, Progress& progress, Plan& plan);
+
+/// The manifest of a run for its work directory: what must match for --resume.
+std::string run_manifest(const Plan& plan);
 
 } // namespace trisnap

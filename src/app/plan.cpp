@@ -130,7 +130,8 @@ Plan make_plan(const SnapArgs& args, const Config& config)
     if (plan.input_driver != "OSM") plan.feature_count = plan.layer->GetFeatureCount(TRUE);
     plan.tolerance = resolve_tolerance(config, *plan.layer, plan.tolerance_note);
     plan.options = engine_options(config, plan.tolerance);
-    plan.tiled = !config.tiling.no_tiles;
+    plan.bbox = args.bbox;
+    plan.tiling.plan.single = config.tiling.no_tiles;
     plan.tiling.plan.tile_size = config.tiling.size;
     plan.tiling.plan.vertex_budget = static_cast<std::size_t>(config.tiling.vertex_budget);
     plan.tiling.halo_factor = config.tiling.halo;
@@ -151,7 +152,7 @@ void print_plan(const Plan& plan, std::ostream& out)
     const std::string name = plan.write.layer_name.empty() ? plan.layer->GetName() : plan.write.layer_name;
     out << fmt::format("output:    {} ({}), layer '{}', FIDs {}\n", plan.write.path, plan.output_driver,
                        name, plan.keeps_fids ? "kept" : "in field orig_fid");
-    if (!plan.tiled)
+    if (plan.tiling.plan.single)
         out << "tiling:    none (one triangulation)\n";
     else
         out << fmt::format("tiling:    {}, halo {} x tolerance (doubles up to {} times)\n",

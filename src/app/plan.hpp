@@ -30,8 +30,8 @@ struct Plan {
     WriteOptions write;
     std::string output_driver;
     bool keeps_fids = false;
-    bool tiled = true;                ///< false with --no-tiles
-    stitch::TilingOptions tiling;     ///< tile size in layer units; threads from [run]
+    std::string bbox;                 ///< --bbox as given ("" = none)
+    stitch::TilingOptions tiling;     ///< tile size in layer units, one tile with --no-tiles; threads from [run]
 };
 
 /// Checks options and config, opens the input, chooses the layer, applies --where/--bbox,

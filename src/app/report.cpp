@@ -1,5 +1,6 @@
 #include "app/report.hpp"
 
+#include "app/memory.hpp"
 #include "app/version.hpp"
 #include "io/io_error.hpp"
 
@@ -54,9 +55,27 @@ ordered_json stats_json(const SnapStats& s)
 ordered_json timings_json(const RunResult& r, double total)
 {
     const SnapStats& s = r.stats;
+    ordered_json phases = ordered_json::object();
+    for (const PhaseRecord& p : r.phases) {
+        phases[p.name] = p.seconds;
+    }
     return {{"read", r.seconds_read}, {"snap", r.seconds_snap}, {"write", r.seconds_write}, {"total", total},
+            {"phases", phases},
             {"engine", {{"triangulate", s.seconds_triangulate}, {"snap", s.seconds_snap},
                         {"label", s.seconds_label}, {"extract", s.seconds_extract}}}};
+}
+
+ordered_json memory_json(const RunResult& r)
+{
+    ordered_json peaks = ordered_json::object();
+    for (const PhaseRecord& p : r.phases) {
+        peaks[p.name] = static_cast<double>(p.peak_rss) / 1048576.0;
+    }
+    const RunBudget& b = r.budget;
+    return {{"mode", b.on_disk ? "out_of_core" : "in_memory"}, {"reason", b.reason},
+            {"limit_bytes", b.memory_limit}, {"estimate_bytes", b.estimate}, {"tile_pool_bytes", r.memory_pool},
+            {"work_dir", b.on_disk ? ordered_json(b.work_dir) : ordered_json(nullptr)}, {"resumed", r.resumed},
+            {"spool_bytes", r.spool_bytes}, {"peak_mb_after_phase", peaks}};
 }
 
 ordered_json tiling_json(const RunResult& r)
@@ -132,6 +151,7 @@ void write_report(const std::string& path, const Plan& plan, const RunResult& re
     report["engine"] = stats_json(result.stats);
     report["timings_s"] = timings_json(result, total_seconds);
     report["peak_memory_mb"] = peak_memory_mb();
+    report["memory"] = memory_json(result);
     report["tiling"] = tiling_json(result);
     report["problems_by_code"] = by_code_json(result.problems);
     report["problems"] = problems_json(result.problems);
@@ -150,9 +170,16 @@ void print_summary(std::ostream& out, const Plan& plan, const RunResult& r, doub
         codes += fmt::format("{}{} {} x{}", codes.empty() ? "" : ", ", code,
                              problem_name(static_cast<ProblemCode>(code)), n);
     out << fmt::format("{} problems{}{}\n", r.problems.size(), codes.empty() ? "" : ": ", codes);
-    out << fmt::format("tolerance {} ({}); time {:.2f} s (read {:.2f}, snap {:.2f}, write {:.2f}); peak memory {:.0f} MB\n",
-                       plan.tolerance, plan.tolerance_note, total_seconds, r.seconds_read, r.seconds_snap,
-                       r.seconds_write, peak_memory_mb());
+    std::string phases;
+    for (const PhaseRecord& p : r.phases) {
+        phases += fmt::format("{}{} {:.2f}", phases.empty() ? "" : ", ", p.name, p.seconds);
+    }
+    out << fmt::format("tolerance {} ({}); time {:.2f} s ({}); peak memory {:.0f} MB\n", plan.tolerance,
+                       plan.tolerance_note, total_seconds, phases, peak_memory_mb());
+    if (r.budget.on_disk) {
+        out << fmt::format("out of core ({}): work files up to {} in {}{}\n", r.budget.reason, format_size(r.spool_bytes),
+                           r.budget.work_dir, r.resumed ? " (resumed)" : "");
+    }
     out << fmt::format("output: {} ({})\n", plan.write.path, plan.output_driver);
 }
 

@@ -1,6 +1,7 @@
 #include "config/config.hpp"
 
 #include "config/errors.hpp"
+#include "config/size.hpp"
 #include "core/snap.hpp"
 
 #include <charconv>
@@ -67,6 +68,25 @@ Setter set(Section Config::*section, Field Section::*field)
     };
 }
 
+// A size: "2GiB" (see config/size.hpp) or a number of bytes. A bad size throws (the caller
+// names file, line and key).
+template <typename Section>
+Setter set_size(Section Config::*section, std::uint64_t Section::*field)
+{
+    return [section, field](const toml::node& n, Config& c) {
+        std::uint64_t& target = (c.*section).*field;
+        if (auto text = n.value<std::string>()) {
+            target = parse_size(*text, "size");
+            return true;
+        }
+        if (auto v = n.as_integer(); v && v->get() > 0) {
+            target = static_cast<std::uint64_t>(v->get());
+            return true;
+        }
+        return false;
+    };
+}
+
 const std::vector<KeySpec>& key_specs()
 {
     static const std::vector<KeySpec> specs{
@@ -83,6 +103,7 @@ const std::vector<KeySpec>& key_specs()
         {"tiling", "max_growth", set(&Config::tiling, &TilingConfig::max_growth)},
         {"tiling", "no_tiles", set(&Config::tiling, &TilingConfig::no_tiles)},
         {"run", "threads", set(&Config::run, &RunConfig::threads)},
+        {"run", "memory_limit", set_size(&Config::run, &RunConfig::memory_limit)},
     };
     return specs;
 }
@@ -120,7 +141,13 @@ void load_section(const std::string& path, const std::string& section, const tom
         const std::string full = section + "." + std::string(key.str());
         const KeySpec* spec = find_spec(section, key.str());
         if (!spec) throw config_error(path, line_of(node), full, "unknown key");
-        if (!spec->set(node, config))
+        bool ok = false;
+        try {
+            ok = spec->set(node, config);
+        } catch (const argument_error& e) {
+            throw config_error(path, line_of(node), full, e.what());
+        }
+        if (!ok)
             throw config_error(path, line_of(node), full, "wrong type for this key");
     }
 }
@@ -178,6 +205,9 @@ std::string to_toml(const Config& config)
            "\nhalo = " + toml_float(t.halo) + "\nmax_growth = " + std::to_string(t.max_growth) +
            "\nno_tiles = " + (t.no_tiles ? "true" : "false") + "\n";
     out += "\n[run]\nthreads = " + std::to_string(config.run.threads) + "\n";
+    if (config.run.memory_limit > 0) {
+        out += "memory_limit = " + std::to_string(config.run.memory_limit) + " # " + format_size(config.run.memory_limit) + "\n";
+    }
     return out;
 }
 

@@ -22,6 +22,9 @@ struct SnapConfig {
 /// [run]: how the run uses the machine.
 struct RunConfig {
     int threads = 0; ///< worker threads for GDAL and oneTBB; 0 = all cores
+    /// Bytes the whole process may hold (0 = unset: in memory when the layer's estimate fits in
+    /// half of the machine's memory, else out of core under that half). TOML: "2GiB" or bytes.
+    std::uint64_t memory_limit = 0;
 };
 
 /// [tiling]: how a layer is cut into tiles (see stitch/tiled_snap.hpp TilingOptions).

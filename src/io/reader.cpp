@@ -101,12 +101,18 @@ OGRFeatureUniquePtr LayerReader::next_ogr_feature()
     }
 }
 
-std::optional<InputFeature> LayerReader::next()
+OGRFeatureUniquePtr LayerReader::next_raw()
 {
     ScopedErrorCapture capture;
     OGRFeatureUniquePtr f = next_ogr_feature();
     // A null feature after an error is a broken file, not the end of the layer.
     if (!f && !capture.errors().empty()) throw io_error(m_dataset.GetDescription(), m_layer.GetName(), capture.last_error());
+    return f;
+}
+
+std::optional<InputFeature> LayerReader::next()
+{
+    OGRFeatureUniquePtr f = next_raw();
     if (!f) return std::nullopt;
     return classify_feature(std::move(f));
 }

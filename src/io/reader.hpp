@@ -29,6 +29,9 @@ public:
     LayerReader(GDALDataset& dataset, OGRLayer& layer);
     /// The next feature, or nullopt at the end. Never throws for bad geometry.
     std::optional<InputFeature> next();
+    /// The next OGR feature as the driver gives it (no conversion), or null at the end. Throws
+    /// io_error when the driver stops on an error.
+    OGRFeatureUniquePtr next_raw();
     /// Features the driver reports, or -1 when counting needs a full read (e.g. OSM).
     std::int64_t count_hint() const { return m_count_hint; }
 

@@ -71,7 +71,7 @@ TEST_F(CliErrors, JsonProgressLinesOnStderr)
         ASSERT_FALSE(j.is_discarded()) << "not JSON: " << line;
         if (j["finished"].get<bool>()) finished.insert(j["phase"].get<std::string>());
     }
-    EXPECT_EQ(finished, (std::set<std::string>{"read", "snap", "write"}));
+    EXPECT_EQ(finished, (std::set<std::string>{"plan", "spool", "snap", "stitch", "write"}));
 }
 
 TEST_F(CliErrors, MissingFile)

@@ -1,0 +1,16 @@
+#pragma once
+// The machine's memory and this process's resident memory.
+#include "config/size.hpp"
+
+#include <cstdint>
+
+namespace trisnap {
+
+/// Physical memory, or the cgroup's limit when that is lower (containers, Slurm jobs).
+std::uint64_t physical_memory();
+
+/// Resident memory of this process now, and its peak so far.
+std::uint64_t current_rss();
+std::uint64_t peak_rss();
+
+} // namespace trisnap

@@ -1,0 +1,159 @@
+#include "app/work_dir.hpp"
+
+#include "config/errors.hpp"
+#include "io/io_error.hpp"
+
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include <filesystem>
+
+namespace trisnap {
+namespace fs = std::filesystem;
+namespace {
+
+const char* const k_manifest = "manifest.json";
+
+// The first key where two manifests differ, for the message.
+std::string first_difference(const nlohmann::json& a, const nlohmann::json& b, const std::string& prefix = "")
+{
+    if (a.is_object() && b.is_object()) {
+        for (const auto& [key, value] : a.items()) {
+            if (!b.contains(key)) {
+                return prefix + key;
+            }
+            if (value != b.at(key)) {
+                return first_difference(value, b.at(key), prefix + key + ".");
+            }
+        }
+        for (const auto& [key, value] : b.items()) {
+            if (!a.contains(key)) {
+                return prefix + key;
+            }
+        }
+    }
+    return prefix.empty() ? std::string("content") : prefix.substr(0, prefix.size() - 1);
+}
+
+bool holds_only_work_files(const fs::path& dir)
+{
+    for (const auto& entry : fs::directory_iterator(dir)) {
+        if (entry.path().filename() == k_manifest) {
+            return true;
+        }
+    }
+    return fs::is_empty(dir);
+}
+
+} // namespace
+
+WorkDir WorkDir::in_memory()
+{
+    WorkDir w;
+    w.m_store = tiling::make_memory_store();
+    return w;
+}
+
+WorkDir WorkDir::on_disk(const std::string& path, bool resume)
+{
+    WorkDir w;
+    w.m_path = path;
+    w.m_resume = resume;
+    std::error_code ec;
+    if (fs::exists(path, ec) && !fs::is_directory(path, ec)) {
+        throw argument_error("--work-dir " + path + ": is a file, not a directory");
+    }
+    if (fs::is_directory(path, ec)) {
+        if (!holds_only_work_files(path)) {
+            throw argument_error("--work-dir " + path + ": holds files that are not a trisnap run; give an empty or new directory");
+        }
+        if (fs::exists(fs::path(path) / k_manifest) && !resume) {
+            throw argument_error("work directory " + path +
+                                 " holds an earlier run: add --resume to continue it, or remove the directory");
+        }
+    } else {
+        w.m_created = true;
+    }
+    try {
+        w.m_store = tiling::make_directory_store(path);
+    } catch (const tiling::work_error& e) {
+        throw io_error(path, "", e.what());
+    }
+    return w;
+}
+
+WorkDir::WorkDir(WorkDir&&) noexcept = default;
+WorkDir& WorkDir::operator=(WorkDir&&) noexcept = default;
+
+WorkDir::~WorkDir()
+{
+    if (m_store && !m_finished) {
+        cleanup_after_failure();
+    }
+}
+
+void WorkDir::bind(const std::string& manifest)
+{
+    if (!on_disk()) {
+        return;
+    }
+    if (m_resume && m_store->exists(k_manifest)) {
+        const nlohmann::json earlier = nlohmann::json::parse(m_store->get(k_manifest), nullptr, false);
+        const nlohmann::json now = nlohmann::json::parse(manifest);
+        if (earlier.is_discarded() || earlier != now) {
+            throw argument_error("work directory " + m_path + " holds a run of another command or input (" +
+                                 (earlier.is_discarded() ? std::string("unreadable manifest") : "differs in " + first_difference(earlier, now)) +
+                                 "); remove it or give another --work-dir");
+        }
+        m_resumed = true;
+        return;
+    }
+    m_store->put(k_manifest, manifest);
+}
+
+void WorkDir::finish()
+{
+    m_finished = true;
+    if (!on_disk()) {
+        m_store.reset();
+        return;
+    }
+    m_store.reset();
+    std::error_code ec;
+    if (m_created) {
+        fs::remove_all(m_path, ec);
+        return;
+    }
+    for (const auto& entry : fs::directory_iterator(m_path, ec)) {
+        fs::remove(entry.path(), ec); // a directory we did not create holds only our files
+    }
+}
+
+void WorkDir::cleanup_after_failure() noexcept
+{
+    if (!on_disk()) {
+        return;
+    }
+    std::error_code ec;
+    // Committed work worth continuing: the read pass finished (its metadata is the first
+    // thing a resumed run needs).
+    if (fs::exists(fs::path(m_path) / "spool.meta", ec)) {
+        spdlog::warn("work directory {} kept: run the same command with --resume to continue", m_path);
+        return;
+    }
+    m_store.reset();
+    if (m_created) {
+        fs::remove_all(m_path, ec);
+    }
+}
+
+std::uint64_t WorkDir::bytes() const { return m_store ? m_store->total_bytes() : 0; }
+
+std::string default_work_dir(const std::string& output)
+{
+    const fs::path out(output);
+    const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
+    return (parent / ("." + out.filename().string() + ".trisnap-work")).string();
+}
+
+} // namespace trisnap

@@ -1,0 +1,154 @@
+// The write phase: the layer read again (attributes, pass-through geometries) in step with
+// records.bin and the stitched features, written in input order. Nothing is held but the
+// current feature; a difference between the two reads (the input changed meanwhile) stops it.
+#include "app/phases.hpp"
+
+#include "io/io_error.hpp"
+#include "io/ogr_geometry.hpp"
+#include "io/reader.hpp"
+
+#include <limits>
+#include <set>
+
+namespace trisnap {
+namespace {
+
+Problem feature_problem(std::int64_t fid, ProblemCode code, std::string message)
+{
+    Problem p;
+    p.feature_id = fid;
+    p.code = code;
+    p.message = std::move(message);
+    p.x = p.y = std::numeric_limits<double>::quiet_NaN();
+    return p;
+}
+
+// records.bin, one entry at a time.
+class RecordLog {
+public:
+    explicit RecordLog(const tiling::WorkStore& store) : m_file(store.open(k_records_file)) {}
+    bool next(RecordEntry& e)
+    {
+        char buffer[RecordEntry::k_bytes];
+        std::size_t got = 0;
+        while (got < sizeof buffer) {
+            const std::size_t k = m_file->read(buffer + got, sizeof buffer - got);
+            if (k == 0) {
+                break;
+            }
+            got += k;
+        }
+        if (got == 0) {
+            return false;
+        }
+        if (got != sizeof buffer) {
+            throw tiling::work_error("damaged work file: records.bin is cut short");
+        }
+        e = RecordEntry::decode(buffer);
+        return true;
+    }
+
+private:
+    std::unique_ptr<tiling::InFile> m_file;
+};
+
+class Writer {
+public:
+    Writer(Plan& plan, stitch::OutputMerger& merger, LayerWriter& writer, RunResult& result)
+        : m_plan(plan), m_merger(merger), m_writer(writer), m_result(result)
+    {
+        for (const Problem& p : result.problems) {
+            m_reported.insert(p.feature_id);
+        }
+    }
+    void feature(std::size_t seq, const RecordEntry& e, OGRFeatureUniquePtr f);
+
+private:
+    [[noreturn]] void changed(const std::string& what) const
+    {
+        throw io_error(m_plan.input_path, m_plan.layer->GetName(),
+                       "the input changed while trisnap ran (" + what + "); run again on a stable copy");
+    }
+    void write(std::int64_t fid, OGRFeature& f, OGRGeometry* geometry);
+
+    Plan& m_plan;
+    stitch::OutputMerger& m_merger;
+    LayerWriter& m_writer;
+    RunResult& m_result;
+    std::set<std::int64_t> m_reported;
+    stitch::OutputItem m_item;
+};
+
+void Writer::write(std::int64_t fid, OGRFeature& f, OGRGeometry* geometry)
+{
+    if (std::string error = m_writer.write(f, fid, geometry); !error.empty()) {
+        ++m_result.unwritable;
+        m_result.problems.push_back(feature_problem(fid, ProblemCode::unwritable_feature, error));
+    }
+}
+
+void Writer::feature(std::size_t seq, const RecordEntry& e, OGRFeatureUniquePtr f)
+{
+    if (f->GetFID() != e.fid) {
+        changed("feature " + std::to_string(seq + 1) + " has FID " + std::to_string(f->GetFID()) + ", was " + std::to_string(e.fid));
+    }
+    if (e.verdict == RecordEntry::rejected) {
+        return;
+    }
+    if (e.verdict == RecordEntry::pass) {
+        OGRGeometry* g = f->StealGeometry();
+        write(e.fid, *f, g);
+        return;
+    }
+    if (!m_merger.next(m_item) || m_item.seq != seq) {
+        changed("the stitched features do not line up with the input");
+    }
+    for (Problem& p : m_item.problems) {
+        m_reported.insert(p.feature_id);
+        m_result.problems.push_back(std::move(p));
+    }
+    if (m_item.output.geometry.empty()) {
+        ++m_result.dropped;
+        if (!m_reported.count(e.fid)) {
+            const auto type = static_cast<OGRwkbGeometryType>(e.type);
+            m_result.problems.push_back(feature_problem(e.fid, type == wkbPolygon || type == wkbMultiPolygon
+                ? ProblemCode::collapsed_polygon : ProblemCode::collapsed_line, "the feature vanished when snapped; not written"));
+        }
+        return;
+    }
+    f->SetGeometryDirectly(nullptr);
+    write(e.fid, *f, to_ogr(m_item.output.geometry, static_cast<OGRwkbGeometryType>(e.type)));
+}
+
+} // namespace
+
+void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerger& merger, LayerWriter& writer,
+                 RunResult& result, Progress& progress, const InterruptGuard& interrupt)
+{
+    LayerReader reader(*plan.dataset, *plan.layer);
+    RecordLog log(store);
+    Writer w(plan, merger, writer, result);
+    progress.start("write", static_cast<std::int64_t>(result.input));
+    RecordEntry e;
+    std::size_t seq = 0;
+    for (; log.next(e); ++seq) {
+        interrupt.check();
+        OGRFeatureUniquePtr f = reader.next_raw();
+        if (!f) {
+            throw io_error(plan.input_path, plan.layer->GetName(),
+                           "the input changed while trisnap ran (it now ends after " + std::to_string(seq) + " features)");
+        }
+        w.feature(seq, e, std::move(f));
+        progress.update(static_cast<std::int64_t>(seq + 1));
+    }
+    if (reader.next_raw()) {
+        throw io_error(plan.input_path, plan.layer->GetName(),
+                       "the input changed while trisnap ran (it now has more than " + std::to_string(seq) + " features)");
+    }
+    progress.finish();
+    interrupt.check();
+    writer.commit();
+    result.written = writer.written();
+}
+
+} // namespace trisnap

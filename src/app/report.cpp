@@ -1,5 +1,6 @@
 #include "app/report.hpp"
 
+#include "app/text.hpp"
 #include "app/version.hpp"
 #include "io/io_error.hpp"
 
@@ -143,13 +144,13 @@ void write_report(const std::string& path, const Plan& plan, const RunResult& re
 void print_summary(std::ostream& out, const Plan& plan, const RunResult& r, double total_seconds)
 {
     const std::size_t not_written = r.input - r.written;
-    out << fmt::format("{} features in, {} written, {} not written ({} rejected on input, {} dropped by the engine, {} refused by the driver)\n",
-                       r.input, r.written, not_written, r.rejected, r.dropped, r.unwritable);
+    out << fmt::format("{} in, {} written, {} not written ({} rejected on input, {} dropped by the engine, {} refused by the driver)\n",
+                       count_of(r.input, "feature"), r.written, not_written, r.rejected, r.dropped, r.unwritable);
     std::string codes;
     for (const auto& [code, n] : count_by_code(r.problems))
         codes += fmt::format("{}{} {} x{}", codes.empty() ? "" : ", ", code,
                              problem_name(static_cast<ProblemCode>(code)), n);
-    out << fmt::format("{} problems{}{}\n", r.problems.size(), codes.empty() ? "" : ": ", codes);
+    out << fmt::format("{}{}{}\n", count_of(r.problems.size(), "problem"), codes.empty() ? "" : ": ", codes);
     out << fmt::format("tolerance {} ({}); time {:.2f} s (read {:.2f}, snap {:.2f}, write {:.2f}); peak memory {:.0f} MB\n",
                        plan.tolerance, plan.tolerance_note, total_seconds, r.seconds_read, r.seconds_snap,
                        r.seconds_write, peak_memory_mb());

@@ -2,6 +2,8 @@
 
 #include <cpl_error.h>
 
+#include <cctype>
+
 namespace trisnap {
 namespace {
 
@@ -13,13 +15,20 @@ void CPL_STDCALL capture_handler(CPLErr severity, CPLErrorNum, const char* messa
 
 } // namespace
 
-ScopedErrorCapture::ScopedErrorCapture() { CPLPushErrorHandlerEx(capture_handler, this); }
+ScopedErrorCapture::ScopedErrorCapture()
+{
+    CPLPushErrorHandlerEx(capture_handler, this);
+    CPLSetCurrentErrorHandlerCatchDebug(FALSE); // CPLDebug lines go on to the process handler (-vv)
+}
 
 ScopedErrorCapture::~ScopedErrorCapture() { CPLPopErrorHandler(); }
 
 void ScopedErrorCapture::record(int severity, const char* message)
 {
-    const std::string text = message ? message : "";
+    std::string text = message ? message : "";
+    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) {
+        text.pop_back(); // some drivers end theirs with a newline; ours are one line
+    }
     if (severity >= CE_Failure) m_errors.push_back(text);
     else if (severity == CE_Warning) m_warnings.push_back(text);
 }

@@ -57,7 +57,8 @@ std::string option_label(const CLI::Option& option)
     for (const std::string& name : option.get_lnames()) {
         label += (label.empty() ? "--" : ", --") + name;
     }
-    return option.get_type_size_max() > 0 ? label + " " + option.get_type_name() : label;
+    const std::string type = option.get_type_name();
+    return option.get_type_size_max() > 0 && !type.empty() ? label + " " + type : label;
 }
 
 std::string synopsis(const CLI::App& command)
@@ -121,7 +122,11 @@ std::string man_page(const CLI::App& app)
     for (const CLI::Option* option : options_of(app)) {
         out += ".TP\n.B " + roff(option_label(*option)) + roff(option->get_description());
     }
-    out += ".SH NOTES\n" + roff(app.get_footer());
+    out += ".SH NOTES\n";
+    std::istringstream footer(app.get_footer());
+    for (std::string line; std::getline(footer, line);) {
+        out += ".PP\n" + roff(line);
+    }
     out += ".SH SEE ALSO\n.BR ogr2ogr (1),\n.BR ogrinfo (1)\n";
     return out;
 }

@@ -25,9 +25,19 @@ ScopedErrorCapture::~ScopedErrorCapture() { CPLPopErrorHandler(); }
 
 void ScopedErrorCapture::record(int severity, const char* message)
 {
-    std::string text = message ? message : "";
-    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) {
-        text.pop_back(); // some drivers end theirs with a newline; ours are one line
+    // Some drivers end their message with a newline or spread it over several (PostgreSQL);
+    // errors here are one line, so runs of white space become one space.
+    std::string text;
+    for (const char* c = message ? message : ""; *c != '\0'; ++c) {
+        const bool space = std::isspace(static_cast<unsigned char>(*c)) != 0;
+        if (!space) {
+            text += *c;
+        } else if (!text.empty() && text.back() != ' ') {
+            text += ' ';
+        }
+    }
+    if (!text.empty() && text.back() == ' ') {
+        text.pop_back();
     }
     if (severity >= CE_Failure) m_errors.push_back(text);
     else if (severity == CE_Warning) m_warnings.push_back(text);

@@ -12,31 +12,18 @@ namespace {
 
 class CliHabits : public ::testing::Test {
 protected:
-    std::string fixture(const std::string& name = "in.gpkg")
-    {
-        const std::string path = dir.path(name);
-        write_fixture(path, "GPKG", "parcels", 3857, wkbUnknown, snapping_fixture());
-        return path;
-    }
-
-    void expect_one_line_error(const RunOutput& r, int code, const std::string& text)
-    {
-        EXPECT_EQ(r.code, code) << r.err;
-        EXPECT_EQ(r.out, "");
-        EXPECT_EQ(r.err_lines().size(), 1u) << r.err;
-        EXPECT_NE(r.err.find(text), std::string::npos) << r.err;
-    }
+    std::string fixture(const std::string& name = "in.gpkg") { return write_snapping_gpkg(dir, name); }
 
     TempDir dir;
 };
 
 TEST_F(CliHabits, MistypedCommandAndOptionNameTheClosest)
 {
-    expect_one_line_error(run_trisnap(dir, {"sanp", "a.gpkg"}), 2, "unknown command 'sanp'; did you mean snap?");
-    expect_one_line_error(run_trisnap(dir, {"valdiate"}), 2, "did you mean validate?");
-    expect_one_line_error(run_trisnap(dir, {"snap", "a.gpkg", "b.gpkg", "--tolerence", "1"}), 2,
+    expect_error(run_trisnap(dir, {"sanp", "a.gpkg"}), 2, "unknown command 'sanp'; did you mean snap?");
+    expect_error(run_trisnap(dir, {"valdiate"}), 2, "did you mean validate?");
+    expect_error(run_trisnap(dir, {"snap", "a.gpkg", "b.gpkg", "--tolerence", "1"}), 2,
                           "unknown option --tolerence for trisnap snap; did you mean --tolerance?");
-    expect_one_line_error(run_trisnap(dir, {"info", "a.gpkg", "--layr", "x"}), 2, "did you mean --layer?");
+    expect_error(run_trisnap(dir, {"info", "a.gpkg", "--layr", "x"}), 2, "did you mean --layer?");
     const RunOutput far = run_trisnap(dir, {"frobnicate"});
     EXPECT_EQ(far.code, 2);
     EXPECT_EQ(far.err.find("did you mean"), std::string::npos) << far.err;
@@ -92,13 +79,13 @@ TEST_F(CliHabits, ValidateFailsWhereSnapWouldBeforeSnapping)
     write_fixture(in, "GPKG", "parcels", 3857, wkbPolygon,
                   {{"POLYGON ((0 0,1 0,1 1,0 1,0 0))", {{"id", "1"}}}, {"POLYGON ((2 0,3 0,3 1,2 1,2 0))", {{"id", "2"}}}});
     for (const char* command : {"validate", "snap"}) {
-        expect_one_line_error(run_trisnap(dir, {command, in, dir.path("o.gpkg"), "--tolerance", "1", "--where", "id > 100"}),
+        expect_error(run_trisnap(dir, {command, in, dir.path("o.gpkg"), "--tolerance", "1", "--where", "id > 100"}),
                               1, "no feature matches --where/--bbox");
-        expect_one_line_error(run_trisnap(dir, {command, in, dir.path("o.gpx"), "--tolerance", "1"}), 2,
+        expect_error(run_trisnap(dir, {command, in, dir.path("o.gpx"), "--tolerance", "1"}), 2,
                               "o.gpx: the GPX driver refuses it: cannot create layer 'parcels' of type Polygon");
-        expect_one_line_error(run_trisnap(dir, {command, in, dir.path("o.gpkg"), "--tolerance", "1", "--report",
+        expect_error(run_trisnap(dir, {command, in, dir.path("o.gpkg"), "--tolerance", "1", "--report",
                                                 dir.path("nowhere/r.json")}), 2, "does not exist");
-        expect_one_line_error(run_trisnap(dir, {command, in, dir.path("o.gpkg"), "--tolerance", "1", "--problems-layer",
+        expect_error(run_trisnap(dir, {command, in, dir.path("o.gpkg"), "--tolerance", "1", "--problems-layer",
                                                 dir.path("p.txt")}), 2, "give a .gpkg or .geojson file name");
     }
     EXPECT_FALSE(exists(dir.path("o.gpx")));

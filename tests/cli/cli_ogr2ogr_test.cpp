@@ -11,12 +11,7 @@ namespace {
 
 class CliOgr2ogr : public ::testing::Test {
 protected:
-    std::string fixture(const std::string& name = "in.gpkg")
-    {
-        const std::string path = dir.path(name);
-        write_fixture(path, "GPKG", "parcels", 3857, wkbUnknown, snapping_fixture());
-        return path;
-    }
+    std::string fixture(const std::string& name = "in.gpkg") { return write_snapping_gpkg(dir, name); }
 
     TempDir dir;
 };

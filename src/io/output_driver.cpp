@@ -172,7 +172,7 @@ GDALDriver& output_driver(const std::string& path, const std::string& format)
     }
     if (!format.empty()) {
         GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(format.c_str());
-        if (!driver) throw argument_error("-f " + format + ": unknown GDAL format");
+        if (!driver) throw argument_error("-f " + format + ": unknown GDAL format (trisnap --formats lists them)");
         if (!can_write_vector(*driver)) throw argument_error("-f " + format + ": this format cannot be written");
         return *driver;
     }

@@ -80,6 +80,44 @@ TEST_F(CliOgr2ogr, GdalConfigKeyValueIsGdals)
     ds->ReleaseResultSet(sql);
 }
 
+TEST_F(CliOgr2ogr, GdalConfigKeyEqualsValueAfterTheCommand)
+{
+    const std::string out = dir.path("out.gpkg");
+    const RunOutput r = run_trisnap(dir, {"snap", fixture(), out, "--tolerance", "0.01", "--config",
+                                          "OGR_CURRENT_DATE=2012-03-04T05:06:07Z", "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(file_bytes(out).find("2012-03-04T05:06:07"), std::string::npos);
+}
+
+TEST_F(CliOgr2ogr, SkipfailuresIsWhatTrisnapAlwaysDoes)
+{
+    // A Shapefile takes one geometry type: the line is refused by the driver (902), the run goes on.
+    const std::string in = dir.path("mixed.gpkg");
+    write_fixture(in, "GPKG", "mixed", 3857, wkbUnknown,
+                  {{"POLYGON ((0 0,1 0,1 1,0 1,0 0))", {{"id", "1"}}}, {"LINESTRING (5 5,6 6)", {{"id", "2"}}},
+                   {"POLYGON ((2 0,3 0,3 1,2 1,2 0))", {{"id", "3"}}}});
+    std::string bytes[2];
+    for (int i = 0; i < 2; ++i) {
+        const std::string out = dir.path("out" + std::to_string(i) + ".shp");
+        std::vector<std::string> args = {"snap", in, out, "--tolerance", "0.01", "--report", dir.path("r.json"), "-q"};
+        if (i == 1) {
+            args.push_back("-skipfailures");
+        }
+        const RunOutput r = run_trisnap(dir, args);
+        ASSERT_EQ(r.code, 0) << r.err;
+        const nlohmann::json j = read_json(dir.path("r.json"));
+        ASSERT_EQ(j["problems"].size(), 1u) << j.dump(1);
+        EXPECT_EQ(j["problems"][0]["code"], 902);
+        EXPECT_EQ(j["problems"][0]["fid"], 2);
+        EXPECT_EQ(read_layer(out).size(), 2u);
+        bytes[i] = file_bytes(out);
+    }
+    EXPECT_EQ(bytes[0], bytes[1]) << "-skipfailures changes nothing";
+    const RunOutput strict = run_trisnap(dir, {"snap", in, dir.path("s.shp"), "--tolerance", "0.01", "-skipfailures",
+                                               "--strict", "-q"});
+    EXPECT_EQ(strict.code, 3);
+}
+
 TEST_F(CliOgr2ogr, ConfigFileStillMeansSettings)
 {
     const std::string file = dir.path("s.toml");

@@ -13,6 +13,7 @@
 #include <spdlog/spdlog.h>
 
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <ostream>
 #include <sstream>
@@ -146,6 +147,20 @@ void check_not_empty(const Plan& plan)
                    filtered ? "no feature matches --where/--bbox: nothing to snap" : "the layer is empty: nothing to snap");
 }
 
+/// OUT, --report and --problems-layer are three files: one written over another loses data.
+void check_distinct(const std::vector<std::pair<std::string, std::string>>& files)
+{
+    for (std::size_t i = 0; i < files.size(); ++i) {
+        for (std::size_t j = i + 1; j < files.size(); ++j) {
+            const auto a = std::filesystem::weakly_canonical(files[i].second);
+            if (!files[i].second.empty() && a == std::filesystem::weakly_canonical(files[j].second)) {
+                throw argument_error(files[i].first + " and " + files[j].first + " are the same file (" +
+                                     files[i].second + "); give each its own");
+            }
+        }
+    }
+}
+
 void check_outputs(const SnapArgs& args, Plan& plan, GDALDriver& driver)
 {
     probe_output(driver, plan.write, *plan.layer);
@@ -153,6 +168,7 @@ void check_outputs(const SnapArgs& args, Plan& plan, GDALDriver& driver)
     if (!args.problems_layer.empty()) {
         check_problems_layer_path(args.problems_layer, args.overwrite);
     }
+    check_distinct({{"OUT", plan.write.path}, {"--report", args.report}, {"--problems-layer", args.problems_layer}});
 }
 
 /// The plan as info lines (-v), the same text `validate` prints.

@@ -88,6 +88,10 @@ TEST_F(CliHabits, ValidateFailsWhereSnapWouldBeforeSnapping)
         expect_error(run_trisnap(dir, {command, in, dir.path("o.gpkg"), "--tolerance", "1", "--problems-layer",
                                                 dir.path("p.txt")}), 2, "give a .gpkg or .geojson file name");
     }
+    expect_error(run_trisnap(dir, {"snap", in, dir.path("o.gpkg"), "--tolerance", "1", "--problems-layer",
+                                   dir.path("o.gpkg")}), 2, "OUT and --problems-layer are the same file");
+    expect_error(run_trisnap(dir, {"validate", in, dir.path("o.gpkg"), "--tolerance", "1", "--report", dir.path("r.json"),
+                                   "--problems-layer", dir.path("./r.json")}), 2, "--report and --problems-layer are the same file");
     EXPECT_FALSE(exists(dir.path("o.gpx")));
     EXPECT_FALSE(exists(dir.path("o.gpkg")));
 }

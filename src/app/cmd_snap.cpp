@@ -6,6 +6,8 @@
 #include "app/plan.hpp"
 #include "app/report.hpp"
 #include "config/errors.hpp"
+#include "io/output_driver.hpp"
+#include "io/problems_layer.hpp"
 
 #include <chrono>
 #include <filesystem>
@@ -13,15 +15,6 @@
 
 namespace trisnap {
 namespace {
-
-void check_report_path(const std::string& path)
-{
-    if (path.empty()) return;
-    const std::filesystem::path p(path);
-    const auto parent = p.has_parent_path() ? p.parent_path() : std::filesystem::path(".");
-    if (!std::filesystem::is_directory(parent))
-        throw argument_error("--report " + path + ": the directory " + parent.string() + " does not exist");
-}
 
 class SnapCommand : public Command {
 public:
@@ -37,7 +30,6 @@ public:
         const std::optional<Config> resolved = start_snap_command(m_args);
         if (!resolved) return 0;
         const Config& config = *resolved;
-        check_report_path(m_args.report);
         const ThreadLimit limit(config.run.threads);
         const auto start = std::chrono::steady_clock::now();
         Progress progress(m_args.progress, m_args.json_progress);
@@ -45,7 +37,9 @@ public:
         const RunResult result = snap_run(m_args, config, progress, plan);
         const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (!m_args.report.empty()) write_report(m_args.report, plan, result, total);
-        if (m_args.quiet == 0) print_summary(std::cout, plan, result, total);
+        if (!m_args.problems_layer.empty())
+            write_problems_layer(m_args.problems_layer, result.problems, plan.layer->GetSpatialRef());
+        if (m_args.quiet == 0) print_summary(is_stdout_path(plan.write.path) ? std::cerr : std::cout, plan, result, total);
         return m_args.strict && !result.problems.empty() ? 3 : 0;
     }
 

@@ -1,9 +1,10 @@
 // trisnap: snap rounding of GIS polygon and line layers in a constrained Delaunay triangulation.
 // main() parses, runs one subcommand and turns each error type into one line and an exit code:
 // 0 ok, 1 processing or I/O error, 2 bad arguments or config, 3 problems under --strict.
+#include "app/about.hpp"
+#include "app/arguments.hpp"
 #include "app/command.hpp"
-#include "app/options.hpp"
-#include "app/version.hpp"
+#include "app/suggest.hpp"
 #include "config/errors.hpp"
 #include "io/io_error.hpp"
 
@@ -39,11 +40,27 @@ int run_command(trisnap::Command& command)
 
 } // namespace
 
+const char* k_footer =
+    "--config KEY VALUE sets a GDAL configuration option, as in GDAL's tools (anywhere on the line); "
+    "--config FILE.toml is --settings FILE.toml.\n"
+    "ogr2ogr spellings work too: -nln, -lco, -dsco, -oo, -where, -spat xmin ymin xmax ymax, -select, "
+    "-overwrite, -progress, -skipfailures.\n"
+    "Exit status: 0 done (problems may have been reported), 1 processing or I/O error, "
+    "2 bad arguments or settings, 3 problems were reported and --strict was given.";
+
 int main(int argc, char** argv)
 {
+    trisnap::Arguments arguments;
+    try {
+        arguments = trisnap::normalise_arguments(argc, argv);
+    } catch (const trisnap::argument_error& e) {
+        return fail(2, e.what());
+    }
+    trisnap::apply_gdal_config(arguments);
     GDALAllRegister();
     CLI::App app{"trisnap: snap rounding of polygon and line layers (any OGR format)", "trisnap"};
-    app.set_version_flag("--version", trisnap::k_version);
+    app.footer(k_footer);
+    trisnap::add_global_flags(app);
     app.require_subcommand(1);
     std::vector<std::pair<CLI::App*, std::unique_ptr<trisnap::Command>>> commands;
     for (auto make : {trisnap::make_snap_command, trisnap::make_validate_command, trisnap::make_info_command,
@@ -53,16 +70,22 @@ int main(int argc, char** argv)
         CLI::App* sub = command->setup(app);
         commands.emplace_back(sub, std::move(command));
     }
-    std::vector<std::string> args = trisnap::normalise_arguments(argc, argv);
     std::vector<char*> pointers;
-    for (std::string& a : args) pointers.push_back(a.data());
+    for (std::string& a : arguments.argv) {
+        pointers.push_back(a.data());
+    }
     try {
         app.parse(static_cast<int>(pointers.size()), pointers.data());
     } catch (const CLI::ParseError& e) {
-        if (e.get_exit_code() == 0) return app.exit(e);
-        return fail(2, std::string(e.what()) + " (see trisnap --help)");
+        if (e.get_exit_code() == 0) {
+            return app.exit(e);
+        }
+        return fail(2, trisnap::explain_parse_error(app, arguments.argv, e));
     }
-    for (auto& [sub, command] : commands)
-        if (sub->parsed()) return run_command(*command);
+    for (auto& [sub, command] : commands) {
+        if (sub->parsed()) {
+            return run_command(*command);
+        }
+    }
     return fail(2, "no command given (see trisnap --help)");
 }

@@ -5,6 +5,7 @@
 #include "config/size.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 
@@ -13,20 +14,29 @@ namespace {
 
 void add_input_options(CLI::App& c, SnapArgs& a)
 {
-    c.add_option("IN", a.input, "input vector dataset (GPKG, Shapefile, FlatGeobuf, GeoJSON, .osm.pbf, ...)");
+    c.add_option("IN", a.input, "input vector dataset or GDAL connection string (GPKG, Shapefile, FlatGeobuf, "
+                                "GeoJSON, .osm.pbf, /vsizip/..., PG:...)");
     c.add_option("--layer", a.layer, "input layer (default: the only polygon/line layer)");
-    c.add_option("--where", a.where, "attribute filter (OGR SQL WHERE clause)");
-    c.add_option("--bbox", a.bbox, "spatial filter xmin,ymin,xmax,ymax in layer units");
+    c.add_option("--oo", a.open_options, "input open option K=V (repeatable), as ogr2ogr -oo");
+    c.add_option("--where", a.where, "attribute filter (OGR SQL WHERE clause; also -where)");
+    c.add_option("--bbox", a.bbox, "spatial filter xmin,ymin,xmax,ymax in layer units (also -spat xmin ymin xmax ymax)");
 }
 
-void add_output_options(CLI::App& c, SnapArgs& a)
+void add_output_options(CLI::App& c, SnapArgs& a, bool writes)
 {
-    c.add_option("OUT", a.output, "output dataset; format from the extension or -f");
+    c.add_option("OUT", a.output, writes ? "output dataset; format from the extension or -f; - for stdout (GeoJSON, "
+                                           "GeoJSONSeq or FlatGeobuf)"
+                                         : "output dataset (checked, not written)");
     c.add_option("-f,--format", a.format, "output GDAL driver short name (GPKG, \"ESRI Shapefile\", FlatGeobuf, GeoJSON)");
     c.add_option("--lco", a.layer_options, "layer creation option K=V (repeatable), as ogr2ogr -lco");
+    c.add_option("--dsco", a.dataset_options, "dataset creation option K=V (repeatable), as ogr2ogr -dsco");
     c.add_option("--nln", a.new_layer_name, "output layer name (also -nln; default: the input layer's)");
-    c.add_flag("--overwrite", a.overwrite, "replace OUT if it exists");
+    c.add_option("--select", a.select, "write only these fields, comma-separated (also -select)");
+    c.add_flag("--overwrite", a.overwrite, "replace OUT (and --problems-layer) if it exists");
+    c.add_flag("--skipfailures", a.skip_failures, "accepted for ogr2ogr: features the driver refuses are always "
+                                                  "skipped and reported (problem 902)");
     c.add_option("--report", a.report, "write the run manifest and problems as JSON to FILE");
+    c.add_option("--problems-layer", a.problems_layer, "write the problems as points to FILE.gpkg or FILE.geojson");
 }
 
 void add_engine_options(CLI::App& c, SnapArgs& a)
@@ -42,7 +52,7 @@ void add_engine_options(CLI::App& c, SnapArgs& a)
 
 void add_run_options(CLI::App& c, SnapArgs& a)
 {
-    c.add_option("--config", a.config_file, "TOML configuration file (see configs/README.md)");
+    c.add_option("--settings", a.settings_file, "TOML settings file (see configs/README.md); --config FILE.toml works too");
     c.add_flag("--print-config", a.print_config, "print the resolved configuration as TOML and exit");
     c.add_flag("--strict", a.strict, "exit with code 3 when any problem is reported");
     c.add_option("--threads", a.threads, "worker threads for GDAL and oneTBB; 0 = all cores ([run] threads)");
@@ -72,15 +82,7 @@ void overlay(const std::optional<T>& flag, U& field)
 void add_snap_options(CLI::App& command, SnapArgs& args, bool needs_output)
 {
     add_input_options(command, args);
-    if (needs_output) add_output_options(command, args);
-    else command.add_option("OUT", args.output, "output dataset (checked, not written)");
-    if (!needs_output) {
-        command.add_option("-f,--format", args.format, "output GDAL driver short name");
-        command.add_option("--lco", args.layer_options, "layer creation option K=V");
-        command.add_option("--nln", args.new_layer_name, "output layer name (also -nln)");
-        command.add_flag("--overwrite", args.overwrite, "OUT may exist");
-        command.add_option("--report", args.report, "report path (not written by validate)");
-    }
+    add_output_options(command, args, needs_output);
     add_engine_options(command, args);
     add_run_options(command, args);
 }
@@ -89,10 +91,11 @@ Config resolve_config(const SnapArgs& args)
 {
     if (args.tolerance && args.tolerance_m) throw argument_error("give --tolerance or --tolerance-m, not both");
     Config config = default_config();
-    if (!args.config_file.empty()) {
-        load_config_file(args.config_file, config);
-        if (std::string reason = check_config(config); !reason.empty())
-            throw config_error(args.config_file, 0, "", reason);
+    if (!args.settings_file.empty()) {
+        load_config_file(args.settings_file, config);
+        if (std::string reason = check_config(config); !reason.empty()) {
+            throw config_error(args.settings_file, 0, "", reason);
+        }
     }
     overlay(args.tolerance, config.snap.tolerance);
     overlay(args.tolerance_m, config.snap.tolerance_m);
@@ -133,15 +136,40 @@ std::vector<double> parse_bbox(const std::string& text)
     return values;
 }
 
-std::vector<std::string> normalise_arguments(int argc, char** argv)
+void check_report_path(const std::string& path)
 {
-    std::vector<std::string> out;
-    for (int i = 0; i < argc; ++i) {
-        std::string arg = argv[i];
-        if (arg == "-nln" || arg == "-lco") arg = "-" + arg;
-        out.push_back(arg);
+    if (path.empty()) {
+        return;
     }
-    return out;
+    const std::filesystem::path p(path);
+    const auto parent = p.has_parent_path() ? p.parent_path() : std::filesystem::path(".");
+    if (!std::filesystem::is_directory(parent)) {
+        throw argument_error("--report " + path + ": the directory " + parent.string() + " does not exist");
+    }
+}
+
+void check_key_values(const std::vector<std::string>& items, const std::string& flag)
+{
+    for (const std::string& item : items) {
+        const auto eq = item.find('=');
+        if (eq == std::string::npos || eq == 0) {
+            throw argument_error(flag + " '" + item + "': expected KEY=VALUE");
+        }
+    }
+}
+
+std::vector<std::string> split_list(const std::string& text)
+{
+    std::vector<std::string> items;
+    std::istringstream in(text);
+    for (std::string item; std::getline(in, item, ',');) {
+        const auto first = item.find_first_not_of(' ');
+        const auto last = item.find_last_not_of(' ');
+        if (first != std::string::npos) {
+            items.push_back(item.substr(first, last - first + 1));
+        }
+    }
+    return items;
 }
 
 std::optional<Config> start_snap_command(const SnapArgs& args)

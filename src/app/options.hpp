@@ -1,6 +1,6 @@
 #pragma once
 // The options shared by `snap` and `validate`, as parsed by CLI11 (no I/O here), and their
-// resolution into a Config: defaults < --config FILE.toml < flags.
+// resolution into a Config: defaults < --settings FILE.toml < flags.
 #include "config/config.hpp"
 
 #include <CLI/CLI.hpp>
@@ -20,9 +20,13 @@ struct SnapArgs {
     std::string new_layer_name; ///< -nln
     std::string where;
     std::string bbox;
-    std::string config_file;
+    std::string settings_file; ///< --settings (also --config FILE.toml)
+    std::string problems_layer; ///< --problems-layer FILE.gpkg|.geojson
     std::string progress = "auto";
-    std::vector<std::string> layer_options; ///< --lco K=V
+    std::vector<std::string> layer_options;   ///< --lco K=V
+    std::vector<std::string> dataset_options; ///< --dsco K=V
+    std::vector<std::string> open_options;    ///< --oo K=V, for the input
+    std::string select;                       ///< --select f1,f2: the fields written
     std::optional<double> tolerance;
     std::optional<double> tolerance_m;
     std::optional<double> grid;
@@ -43,6 +47,7 @@ struct SnapArgs {
     bool strict = false;
     bool print_config = false;
     bool json_progress = false;
+    bool skip_failures = false; ///< -skipfailures: what trisnap always does (problem 902)
     int verbose = 0;
     int quiet = 0;
 };
@@ -50,7 +55,7 @@ struct SnapArgs {
 /// Declares the snap/validate options on `command`; values land in `args`.
 void add_snap_options(CLI::App& command, SnapArgs& args, bool needs_output);
 
-/// Defaults, then the --config file, then flags. Throws config_error / argument_error.
+/// Defaults, then the --settings file, then flags. Throws config_error / argument_error.
 Config resolve_config(const SnapArgs& args);
 
 /// The common start of snap and validate: logging set up, config resolved. With
@@ -60,7 +65,13 @@ std::optional<Config> start_snap_command(const SnapArgs& args);
 /// xmin,ymin,xmax,ymax; throws argument_error.
 std::vector<double> parse_bbox(const std::string& text);
 
-/// ogr2ogr spells some options with one dash (-nln, -lco); CLI11 wants two. Rewrites argv.
-std::vector<std::string> normalise_arguments(int argc, char** argv);
+/// Refuses a --report FILE whose directory does not exist (argument_error).
+void check_report_path(const std::string& path);
+
+/// Throws argument_error naming `flag` unless every item is KEY=VALUE.
+void check_key_values(const std::vector<std::string>& items, const std::string& flag);
+
+/// "a,b , c" -> {"a", "b", "c"}; empty items dropped.
+std::vector<std::string> split_list(const std::string& text);
 
 } // namespace trisnap

@@ -1,16 +1,22 @@
 #include "app/plan.hpp"
 
+#include "app/text.hpp"
 #include "config/errors.hpp"
 #include "io/dataset.hpp"
 #include "io/gdal_errors.hpp"
+#include "io/io_error.hpp"
 #include "io/layer_info.hpp"
+#include "io/output_driver.hpp"
+#include "io/problems_layer.hpp"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <ostream>
+#include <sstream>
 
 namespace trisnap {
 namespace {
@@ -33,15 +39,39 @@ void apply_filters(const SnapArgs& args, OGRLayer& layer)
     }
 }
 
-/// Latitude at the middle of the layer's extent, honouring the data axis order.
-double mean_latitude(OGRLayer& layer, const OGRSpatialReference& srs)
+struct LatitudeRange {
+    double south = 0.0;
+    double north = 0.0;
+    double middle() const { return (south + north) / 2; }
+};
+
+/// The latitudes the layer's extent spans, honouring the data axis order.
+LatitudeRange latitude_range(OGRLayer& layer, const OGRSpatialReference& srs)
 {
     OGREnvelope e;
-    if (layer.GetExtent(&e, TRUE) != OGRERR_NONE)
+    if (layer.GetExtent(&e, TRUE) != OGRERR_NONE) {
         throw argument_error("--tolerance-m: the layer has no extent to take a latitude from");
+    }
     const auto& mapping = srs.GetDataAxisToSRSAxisMapping();
     const bool lat_is_x = srs.EPSGTreatsAsLatLong() && !mapping.empty() && mapping[0] == 1;
-    return lat_is_x ? (e.MinX + e.MaxX) / 2 : (e.MinY + e.MaxY) / 2;
+    return lat_is_x ? LatitudeRange{e.MinX, e.MaxX} : LatitudeRange{e.MinY, e.MaxY};
+}
+
+/// The degrees chosen at latitude φ0 are M·cos φ / cos φ0 metres east-west at φ: warn when that
+/// is off by more than 10 % somewhere in the layer (a world layer converted at its middle).
+void warn_latitude_spread(double metres, double degrees, const LatitudeRange& range)
+{
+    const double at_middle = metres_per_degree(range.middle());
+    const double nearest_equator = range.south <= 0 && range.north >= 0 ? 0.0 : std::min(std::abs(range.south), std::abs(range.north));
+    const double farthest = std::max(std::abs(range.south), std::abs(range.north));
+    const double most = metres_per_degree(nearest_equator) / at_middle;
+    const double least = metres_per_degree(farthest) / at_middle;
+    if (most <= 1.1 && least >= 0.9) {
+        return;
+    }
+    spdlog::warn("--tolerance-m {}: the layer spans latitudes {:.1f} to {:.1f}; {:.3g} degrees (converted at {:.1f}) "
+                 "is {:.3g} m to {:.3g} m east-west across it, more than 10 % off; use a projected CRS, or --tolerance "
+                 "in degrees", metres, range.south, range.north, degrees, range.middle(), metres * least, metres * most);
 }
 
 double from_metres(double metres, OGRLayer& layer, std::string& note)
@@ -53,9 +83,11 @@ double from_metres(double metres, OGRLayer& layer, std::string& note)
         note = fmt::format("{} m = {} layer units ({} m each)", metres, metres / unit, unit);
         return metres / unit;
     }
-    const double lat = mean_latitude(layer, *srs);
+    const LatitudeRange range = latitude_range(layer, *srs);
+    const double lat = range.middle();
     const double degrees = metres / metres_per_degree(lat);
     note = fmt::format("{} m = {:.3g} degrees at mean latitude {:.4f}", metres, degrees, lat);
+    warn_latitude_spread(metres, degrees, range);
     return degrees;
 }
 
@@ -91,15 +123,63 @@ SnapOptions engine_options(const Config& config, double tolerance)
 
 WriteOptions write_options(const SnapArgs& args)
 {
+    check_key_values(args.layer_options, "--lco");
+    check_key_values(args.dataset_options, "--dsco");
     WriteOptions w;
-    w.path = args.output;
+    w.path = args.output == "-" ? "/vsistdout/" : args.output;
     w.format = args.format;
     w.layer_name = args.new_layer_name;
     w.layer_options = args.layer_options;
+    w.dataset_options = args.dataset_options;
+    w.fields = split_list(args.select);
     w.overwrite = args.overwrite;
-    for (const auto& o : w.layer_options)
-        if (o.find('=') == std::string::npos) throw argument_error("--lco '" + o + "': expected KEY=VALUE");
     return w;
+}
+
+/// What the pipeline would refuse after reading everything: refuse it before reading.
+void check_not_empty(const Plan& plan)
+{
+    if (plan.feature_count != 0) {
+        return;
+    }
+    const bool filtered = plan.layer->GetAttrQueryString() || plan.layer->GetSpatialFilter();
+    throw io_error(plan.input_path, plan.layer->GetName(),
+                   filtered ? "no feature matches --where/--bbox: nothing to snap" : "the layer is empty: nothing to snap");
+}
+
+/// OUT, --report and --problems-layer are three files: one written over another loses data.
+void check_distinct(const std::vector<std::pair<std::string, std::string>>& files)
+{
+    for (std::size_t i = 0; i < files.size(); ++i) {
+        for (std::size_t j = i + 1; j < files.size(); ++j) {
+            const auto a = std::filesystem::weakly_canonical(files[i].second);
+            if (!files[i].second.empty() && a == std::filesystem::weakly_canonical(files[j].second)) {
+                throw argument_error(files[i].first + " and " + files[j].first + " are the same file (" +
+                                     files[i].second + "); give each its own");
+            }
+        }
+    }
+}
+
+void check_outputs(const SnapArgs& args, Plan& plan, GDALDriver& driver)
+{
+    probe_output(driver, plan.write, *plan.layer);
+    check_report_path(args.report);
+    if (!args.problems_layer.empty()) {
+        check_problems_layer_path(args.problems_layer, args.overwrite);
+    }
+    check_distinct({{"OUT", plan.write.path}, {"--report", args.report}, {"--problems-layer", args.problems_layer}});
+}
+
+/// The plan as info lines (-v), the same text `validate` prints.
+void log_plan(const Plan& plan)
+{
+    std::ostringstream text;
+    print_plan(plan, text);
+    std::istringstream lines(text.str());
+    for (std::string line; std::getline(lines, line);) {
+        spdlog::info("{}", line);
+    }
 }
 
 } // namespace
@@ -122,12 +202,17 @@ Plan make_plan(const SnapArgs& args, const Config& config)
     plan.keeps_fids = driver_keeps_fids(driver);
     check_output_path(plan.write, args.input);
     plan.input_path = args.input;
-    plan.dataset = open_input(args.input);
+    check_key_values(args.open_options, "--oo");
+    plan.dataset = open_input(args.input, args.open_options);
     plan.input_driver = plan.dataset->GetDriverName();
     plan.layer = &select_layer(*plan.dataset, args.input, args.layer);
     plan.crs = describe_crs(plan.layer->GetSpatialRef());
     apply_filters(args, *plan.layer);
-    if (plan.input_driver != "OSM") plan.feature_count = plan.layer->GetFeatureCount(TRUE);
+    if (plan.input_driver != "OSM") {
+        plan.feature_count = plan.layer->GetFeatureCount(TRUE);
+    }
+    check_not_empty(plan);
+    check_outputs(args, plan, driver);
     plan.tolerance = resolve_tolerance(config, *plan.layer, plan.tolerance_note);
     plan.options = engine_options(config, plan.tolerance);
     plan.bbox = args.bbox;
@@ -137,13 +222,14 @@ Plan make_plan(const SnapArgs& args, const Config& config)
     plan.tiling.halo_factor = config.tiling.halo;
     plan.tiling.max_growth = config.tiling.max_growth;
     plan.tiling.threads = config.run.threads;
+    log_plan(plan);
     return plan;
 }
 
 void print_plan(const Plan& plan, std::ostream& out)
 {
-    const std::string count = plan.feature_count < 0 ? "unknown until read" : std::to_string(plan.feature_count);
-    out << fmt::format("input:     {} ({}), layer '{}', {} features, CRS {}\n", plan.input_path,
+    const std::string count = plan.feature_count < 0 ? "features unknown until read" : count_of(plan.feature_count, "feature");
+    out << fmt::format("input:     {} ({}), layer '{}', {}, CRS {}\n", plan.input_path,
                        plan.input_driver, plan.layer->GetName(), count, plan.crs);
     out << fmt::format("tolerance: {} ({})\n", plan.tolerance, plan.tolerance_note);
     out << fmt::format("engine:    edge_separation {}, sliver_factor {}, grid {}, max_drift_factor {}\n",

@@ -1,6 +1,7 @@
 #include "app/report.hpp"
 
 #include "app/memory.hpp"
+#include "app/text.hpp"
 #include "app/version.hpp"
 #include "io/io_error.hpp"
 
@@ -163,13 +164,13 @@ void write_report(const std::string& path, const Plan& plan, const RunResult& re
 void print_summary(std::ostream& out, const Plan& plan, const RunResult& r, double total_seconds)
 {
     const std::size_t not_written = r.input - r.written;
-    out << fmt::format("{} features in, {} written, {} not written ({} rejected on input, {} dropped by the engine, {} refused by the driver)\n",
-                       r.input, r.written, not_written, r.rejected, r.dropped, r.unwritable);
+    out << fmt::format("{} in, {} written, {} not written ({} rejected on input, {} dropped by the engine, {} refused by the driver)\n",
+                       count_of(r.input, "feature"), r.written, not_written, r.rejected, r.dropped, r.unwritable);
     std::string codes;
     for (const auto& [code, n] : count_by_code(r.problems))
         codes += fmt::format("{}{} {} x{}", codes.empty() ? "" : ", ", code,
                              problem_name(static_cast<ProblemCode>(code)), n);
-    out << fmt::format("{} problems{}{}\n", r.problems.size(), codes.empty() ? "" : ": ", codes);
+    out << fmt::format("{}{}{}\n", count_of(r.problems.size(), "problem"), codes.empty() ? "" : ": ", codes);
     std::string phases;
     for (const PhaseRecord& p : r.phases) {
         phases += fmt::format("{}{} {:.2f}", phases.empty() ? "" : ", ", p.name, p.seconds);

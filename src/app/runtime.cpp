@@ -12,18 +12,20 @@
 namespace trisnap {
 namespace {
 
-/// GDAL messages that no ScopedErrorCapture caught: debug logs, never raw stderr lines.
+/// GDAL messages that no ScopedErrorCapture caught, and all of GDAL's CPLDebug lines (captures
+/// pass those on): debug logs, never raw stderr lines.
 void CPL_STDCALL log_gdal_message(CPLErr severity, CPLErrorNum, const char* message)
 {
-    if (severity == CE_Debug) return;
-    spdlog::debug("GDAL {}: {}", severity == CE_Warning ? "warning" : "error", message ? message : "");
+    const char* kind = severity == CE_Debug ? "debug" : severity == CE_Warning ? "warning" : "error";
+    spdlog::debug("GDAL {}: {}", kind, message ? message : "");
 }
 
 } // namespace
 
 void setup_logging(int verbose, int quiet)
 {
-    auto logger = spdlog::stderr_logger_st("trisnap");
+    // GDAL's workers may log too: the thread-safe sink.
+    auto logger = spdlog::stderr_logger_mt("trisnap");
     logger->set_pattern("trisnap: %l: %v");
     spdlog::level::level_enum level = spdlog::level::warn;
     if (quiet > 0) level = spdlog::level::err;
@@ -32,6 +34,9 @@ void setup_logging(int verbose, int quiet)
     logger->set_level(level);
     spdlog::set_default_logger(logger);
     CPLSetErrorHandler(log_gdal_message);
+    if (verbose >= 2 && quiet == 0 && !CPLGetConfigOption("CPL_DEBUG", nullptr)) {
+        CPLSetConfigOption("CPL_DEBUG", "ON"); // -vv: GDAL's own debug lines
+    }
 }
 
 struct ThreadLimit::Impl {

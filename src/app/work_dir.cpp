@@ -151,6 +151,9 @@ std::uint64_t WorkDir::bytes() const { return m_store ? m_store->total_bytes() :
 
 std::string default_work_dir(const std::string& output)
 {
+    if (output == "-" || output.rfind("/vsi", 0) == 0) {
+        return ".trisnap-work"; // streamed or virtual output: beside nothing, in the current directory
+    }
     const fs::path out(output);
     const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
     return (parent / ("." + out.filename().string() + ".trisnap-work")).string();

@@ -5,8 +5,10 @@
 #include "io/io_error.hpp"
 
 #include <cpl_conv.h>
+#include <cpl_string.h>
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <vector>
 
@@ -42,13 +44,35 @@ bool is_osm_path(const std::string& path)
     return ends_with(lower, ".osm.pbf") || ends_with(lower, ".pbf") || ends_with(lower, ".osm");
 }
 
-GDALDatasetUniquePtr open_input(const std::string& path)
+bool is_gdal_source_string(const std::string& path)
 {
-    if (path.rfind("/vsi", 0) != 0 && !std::filesystem::exists(path))
+    if (path.rfind("/vsi", 0) == 0) {
+        return true;
+    }
+    // PREFIX:rest with a prefix of two or more letters (one letter is a drive, C:\...).
+    const auto colon = path.find(':');
+    if (colon == std::string::npos || colon < 2) {
+        return false;
+    }
+    return std::all_of(path.begin(), path.begin() + static_cast<std::ptrdiff_t>(colon),
+                       [](unsigned char c) { return std::isalnum(c) != 0 || c == '_'; });
+}
+
+GDALDatasetUniquePtr open_input(const std::string& path, const std::vector<std::string>& open_options)
+{
+    if (!is_gdal_source_string(path) && !std::filesystem::exists(path)) {
         throw io_error(path, "", "no such file or directory");
-    if (is_osm_path(path)) configure_osm_driver();
+    }
+    if (is_osm_path(path)) {
+        configure_osm_driver();
+    }
+    CPLStringList options;
+    for (const std::string& option : open_options) {
+        options.AddString(option.c_str());
+    }
     ScopedErrorCapture capture;
-    GDALDatasetUniquePtr dataset(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+    GDALDatasetUniquePtr dataset(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr,
+                                                   options.List()));
     if (!dataset)
         throw io_error(path, "", capture.last_error("not a readable vector dataset (unknown or corrupt format)"));
     if (dataset->GetLayerCount() == 0) throw io_error(path, "", "the dataset has no vector layers");

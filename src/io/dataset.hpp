@@ -4,16 +4,22 @@
 #include <ogrsf_frmts.h>
 
 #include <string>
+#include <vector>
 
 namespace trisnap {
 
 /// True for OpenStreetMap inputs (.osm, .pbf), read through GDAL's OSM driver.
 bool is_osm_path(const std::string& path);
 
-/// Opens `path` read-only as a vector dataset. For OSM inputs sets the driver's options for
-/// large files first (custom indexing, temp file size) unless the user set them. Throws io_error
-/// with GDAL's message for a missing, unreadable or unrecognised file.
-GDALDatasetUniquePtr open_input(const std::string& path);
+/// True for what GDAL opens that is not a plain file name: connection strings ("PG:...",
+/// "WFS:...", "OCI:..."), virtual file systems ("/vsizip/...", "/vsicurl/...").
+bool is_gdal_source_string(const std::string& path);
+
+/// Opens `path` read-only as a vector dataset, with GDAL open options (`-oo K=V`). For OSM
+/// inputs sets the driver's options for large files first (custom indexing, temp file size)
+/// unless the user set them. Throws io_error with GDAL's message for a missing, unreadable or
+/// unrecognised file ("no such file" only for a plain file name that does not exist).
+GDALDatasetUniquePtr open_input(const std::string& path, const std::vector<std::string>& open_options = {});
 
 /// The layer named `name`, or (empty name) the only layer that can hold polygons or lines.
 /// Throws argument_error listing the layers when the name is unknown or the choice ambiguous,

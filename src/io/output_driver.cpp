@@ -1,12 +1,17 @@
 // Choosing and checking the output format and path (the part of the writer that runs before
 // any data is read, so `validate` can use it without writing anything).
-#include "io/writer.hpp"
+#include "io/output_driver.hpp"
 
 #include "config/errors.hpp"
+#include "io/gdal_errors.hpp"
 #include "io/io_error.hpp"
+
+#include <cpl_string.h>
+#include <cpl_vsi.h>
 
 #include <algorithm>
 #include <sstream>
+#include <unistd.h>
 
 namespace trisnap {
 namespace {
@@ -15,11 +20,6 @@ std::string lower(std::string s)
 {
     std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
     return s;
-}
-
-bool can_create_vector(GDALDriver& driver)
-{
-    return driver.GetMetadataItem(GDAL_DCAP_VECTOR) && driver.GetMetadataItem(GDAL_DCAP_CREATE);
 }
 
 bool lists_extension(GDALDriver& driver, const std::string& ext)
@@ -31,24 +31,149 @@ bool lists_extension(GDALDriver& driver, const std::string& ext)
     return false;
 }
 
+std::string first_extension(GDALDriver& driver)
+{
+    const char* list = driver.GetMetadataItem(GDAL_DMD_EXTENSIONS);
+    std::istringstream words(list ? list : "");
+    std::string word;
+    words >> word;
+    return word;
+}
+
 GDALDriver* driver_for_extension(const std::string& ext)
 {
     GDALDriverManager* manager = GetGDALDriverManager();
     for (int i = 0; i < manager->GetDriverCount(); ++i) {
         GDALDriver* driver = manager->GetDriver(i);
-        if (can_create_vector(*driver) && lists_extension(*driver, ext)) return driver;
+        if (can_write_vector(*driver) && lists_extension(*driver, ext)) return driver;
     }
     return nullptr;
 }
 
+
+/// "-" streams GeoJSON unless -f says otherwise; a driver that must seek cannot stream.
+GDALDriver& stdout_driver(const std::string& format)
+{
+    const std::string name = format.empty() ? "GeoJSON" : format;
+    GDALDriver& driver = output_driver("", name);
+    if (!can_stream(driver)) {
+        throw argument_error(std::string("OUT - (stdout): the ") + driver.GetDescription() +
+                             " driver cannot stream (it needs to seek in its file); give a file name, or -f GeoJSON, "
+                             "GeoJSONSeq or FlatGeobuf");
+    }
+    return driver;
+}
+
+class StringList {
+public:
+    explicit StringList(const std::vector<std::string>& items)
+    {
+        for (const std::string& item : items) {
+            m_list.AddString(item.c_str());
+        }
+    }
+    char** get() { return m_list.List(); }
+
+private:
+    CPLStringList m_list;
+};
+
+void check_selected_fields(const std::vector<std::string>& fields, OGRFeatureDefn& defn)
+{
+    for (const std::string& name : fields) {
+        if (defn.GetFieldIndex(name.c_str()) >= 0) {
+            continue;
+        }
+        std::string known;
+        for (int i = 0; i < defn.GetFieldCount(); ++i) {
+            known += (i == 0 ? "" : ", ") + std::string(defn.GetFieldDefn(i)->GetNameRef());
+        }
+        throw argument_error("--select: no field '" + name + "' in the input; fields: " + (known.empty() ? "none" : known));
+    }
+}
+
+/// Layer and fields as the writer creates them, in `dataset`; "" or GDAL's complaint.
+std::string create_probe_layer(GDALDataset& dataset, const WriteOptions& options, OGRLayer& source)
+{
+    const std::string name = options.layer_name.empty() ? source.GetName() : options.layer_name;
+    StringList lco(options.layer_options);
+    ScopedErrorCapture capture;
+    OGRLayer* layer = dataset.CreateLayer(name.c_str(), source.GetSpatialRef(), source.GetGeomType(), lco.get());
+    if (!layer) {
+        return "cannot create layer '" + name + "' of type " + OGRGeometryTypeToName(source.GetGeomType()) + ": " +
+               capture.last_error("no reason given");
+    }
+    OGRFeatureDefn& defn = *source.GetLayerDefn();
+    for (int i = 0; i < defn.GetFieldCount(); ++i) {
+        OGRFieldDefn field(defn.GetFieldDefn(i));
+        const bool selected = options.fields.empty() ||
+            std::find(options.fields.begin(), options.fields.end(), field.GetNameRef()) != options.fields.end();
+        if (selected && layer->CreateField(&field, TRUE) != OGRERR_NONE) {
+            return "cannot create field '" + std::string(field.GetNameRef()) + "': " + capture.last_error();
+        }
+    }
+    return "";
+}
+
 } // namespace
+
+bool is_stdout_path(const std::string& path)
+{
+    return path.rfind("/vsistdout/", 0) == 0;
+}
+
+bool can_write_vector(GDALDriver& driver)
+{
+    return driver.GetMetadataItem(GDAL_DCAP_VECTOR) && driver.GetMetadataItem(GDAL_DCAP_CREATE);
+}
+
+bool can_stream(GDALDriver& driver)
+{
+    const std::string name = driver.GetDescription();
+    return name == "GeoJSON" || name == "GeoJSONSeq" || name == "FlatGeobuf";
+}
+
+std::string stdout_dataset_path(GDALDriver& driver)
+{
+    const std::string ext = first_extension(driver);
+    return "/vsistdout/trisnap" + (ext.empty() ? "" : "." + ext);
+}
+
+void probe_output(GDALDriver& driver, const WriteOptions& options, OGRLayer& source)
+{
+    check_selected_fields(options.fields, *source.GetLayerDefn());
+    if (!driver.GetMetadataItem(GDAL_DCAP_VIRTUALIO)) {
+        return; // cannot be tried in memory; the writer reports what the driver says
+    }
+    const std::string dir = "/vsimem/trisnap-probe-" + std::to_string(getpid());
+    std::string file = std::filesystem::path(options.path).filename().string();
+    if (file.empty() || is_stdout_path(options.path)) {
+        file = std::filesystem::path(stdout_dataset_path(driver)).filename().string();
+    }
+    VSIMkdir(dir.c_str(), 0755);
+    std::string error;
+    {
+        StringList dsco(options.dataset_options);
+        ScopedErrorCapture capture;
+        GDALDatasetUniquePtr dataset(driver.Create((dir + "/" + file).c_str(), 0, 0, 0, GDT_Unknown, dsco.get()));
+        error = dataset ? create_probe_layer(*dataset, options, source)
+                        : capture.last_error("cannot create the dataset");
+    }
+    VSIRmdirRecursive(dir.c_str());
+    if (!error.empty()) {
+        throw argument_error(options.path + ": the " + driver.GetDescription() + " driver refuses it: " + error);
+    }
+}
 
 GDALDriver& output_driver(const std::string& path, const std::string& format)
 {
+    if (is_stdout_path(path)) {
+        return stdout_driver(format);
+    }
     if (!format.empty()) {
         GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(format.c_str());
-        if (!driver) throw argument_error("-f " + format + ": unknown GDAL format");
-        if (!can_create_vector(*driver)) throw argument_error("-f " + format + ": this format cannot be written");
+        if (!driver) throw argument_error("-f " + format + ": unknown GDAL format (trisnap --formats lists them)");
+        if (!can_write_vector(*driver)) throw argument_error("-f " + format + ": this format cannot be written");
         return *driver;
     }
     const std::string ext = lower(std::filesystem::path(path).extension().string());
@@ -62,6 +187,9 @@ GDALDriver& output_driver(const std::string& path, const std::string& format)
 void check_output_path(const WriteOptions& options, const std::string& input_path)
 {
     namespace fs = std::filesystem;
+    if (is_stdout_path(options.path)) {
+        return; // nothing on disk to check or replace
+    }
     const fs::path target(options.path);
     std::error_code ec;
     if (fs::exists(input_path, ec) && fs::exists(target, ec) && fs::equivalent(input_path, target, ec))

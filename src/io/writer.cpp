@@ -2,6 +2,7 @@
 
 #include "io/gdal_errors.hpp"
 #include "io/io_error.hpp"
+#include "io/output_driver.hpp"
 
 #include <cpl_conv.h>
 #include <cpl_string.h>
@@ -74,17 +75,19 @@ LayerWriter::~LayerWriter()
 
 void LayerWriter::create_dataset(GDALDriver& driver)
 {
+    const bool streamed = is_stdout_path(m_options.path); // written as it goes: no temporary, no rename
     const fs::path parent = m_target.has_parent_path() ? m_target.parent_path() : fs::path(".");
     std::string name = ".";
     name.append(m_target.filename().string()).append(".trisnap-tmp-").append(std::to_string(getpid()));
-    m_temp_dir = parent / name;
+    m_temp_dir = streamed ? fs::path() : parent / name;
     std::error_code ec;
     fs::remove_all(m_temp_dir, ec);
-    if (!fs::create_directory(m_temp_dir, ec))
+    if (!streamed && !fs::create_directory(m_temp_dir, ec))
         throw io_error(m_options.path, "", "cannot create temporary directory " + m_temp_dir.string() + ": " + ec.message());
-    const std::string temp_path = (m_temp_dir / m_target.filename()).string();
+    const std::string temp_path = streamed ? stdout_dataset_path(driver) : (m_temp_dir / m_target.filename()).string();
+    const StringList dataset_options(m_options.dataset_options);
     ScopedErrorCapture capture;
-    m_dataset.reset(driver.Create(temp_path.c_str(), 0, 0, 0, GDT_Unknown, nullptr));
+    m_dataset.reset(driver.Create(temp_path.c_str(), 0, 0, 0, GDT_Unknown, dataset_options.get()));
     if (!m_dataset) throw io_error(m_options.path, "", capture.last_error("cannot create the dataset"));
 }
 
@@ -105,6 +108,9 @@ std::vector<std::string> LayerWriter::layer_options(GDALDriver& driver, OGRLayer
     if (!has_option(options, "SIGNIFICANT_FIGURES") && !has_option(options, "COORDINATE_PRECISION") &&
         driver_has_layer_option(driver, "SIGNIFICANT_FIGURES"))
         options.push_back("SIGNIFICANT_FIGURES=17");
+    // FlatGeobuf's spatial index sorts features along a Hilbert curve; without it they stay in input order.
+    if (!has_option(options, "SPATIAL_INDEX") && m_driver_name == "FlatGeobuf")
+        options.push_back("SPATIAL_INDEX=NO");
     // OGR hands us UTF-8; without this the Shapefile driver would recode to ISO-8859-1.
     if (!has_option(options, "ENCODING") && driver_has_layer_option(driver, "ENCODING") &&
         m_driver_name == "ESRI Shapefile")
@@ -126,6 +132,11 @@ void LayerWriter::create_fields(const OGRFeatureDefn& source)
     ScopedErrorCapture capture;
     for (int i = 0; i < source.GetFieldCount(); ++i) {
         OGRFieldDefn field(source.GetFieldDefn(i));
+        const auto& only = m_options.fields; // --select: the others map to -1, which SetFieldsFrom skips
+        if (!only.empty() && std::find(only.begin(), only.end(), field.GetNameRef()) == only.end()) {
+            m_field_map.push_back(-1);
+            continue;
+        }
         if (m_layer->CreateField(&field, TRUE) != OGRERR_NONE)
             throw io_error(m_options.path, m_layer->GetName(),
                            "cannot create field '" + std::string(field.GetNameRef()) + "': " + capture.last_error());
@@ -159,7 +170,7 @@ void LayerWriter::commit()
         throw io_error(m_options.path, "", capture.last_error("cannot commit the transaction"));
     m_dataset.reset(); // GDALClose: some drivers (FlatGeobuf) write everything here
     if (!capture.errors().empty()) throw io_error(m_options.path, "", capture.last_error());
-    move_into_place();
+    if (!m_temp_dir.empty()) move_into_place();
     m_committed = true;
 }
 

@@ -18,6 +18,8 @@ struct WriteOptions {
     std::string format;                    ///< GDAL driver short name; empty = from the extension
     std::string layer_name;                ///< empty = the source layer's name
     std::vector<std::string> layer_options; ///< --lco K=V, passed to CreateLayer
+    std::vector<std::string> dataset_options; ///< --dsco K=V, passed to Create
+    std::vector<std::string> fields;        ///< --select: the source fields to write; empty = all
     bool overwrite = false;
     bool renumber = false; ///< input FIDs unusable (duplicate or missing): always add orig_fid
 };

@@ -11,22 +11,7 @@ namespace {
 
 class CliErrors : public ::testing::Test {
 protected:
-    std::string fixture(const std::string& name = "in.gpkg")
-    {
-        const std::string path = dir.path(name);
-        write_fixture(path, "GPKG", "parcels", 3857, wkbUnknown, snapping_fixture());
-        return path;
-    }
-
-    /// Exit code `code`, nothing on stdout, exactly one line on stderr containing `text`.
-    void expect_error(const RunOutput& r, int code, const std::string& text)
-    {
-        EXPECT_EQ(r.code, code) << r.err;
-        EXPECT_EQ(r.out, "");
-        ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
-        EXPECT_NE(r.err.find("trisnap: error: "), std::string::npos) << r.err;
-        EXPECT_NE(r.err.find(text), std::string::npos) << r.err;
-    }
+    std::string fixture(const std::string& name = "in.gpkg") { return write_snapping_gpkg(dir, name); }
 
     TempDir dir;
 };

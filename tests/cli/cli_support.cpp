@@ -120,6 +120,22 @@ void write_fixture(const std::string& path, const std::string& driver_name, cons
     }
 }
 
+std::string write_snapping_gpkg(const TempDir& dir, const std::string& name)
+{
+    const std::string path = dir.path(name);
+    write_fixture(path, "GPKG", "parcels", 3857, wkbUnknown, snapping_fixture());
+    return path;
+}
+
+void expect_error(const RunOutput& r, int code, const std::string& text)
+{
+    EXPECT_EQ(r.code, code) << r.err;
+    EXPECT_EQ(r.out, "");
+    ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
+    EXPECT_NE(r.err.find("trisnap: error: "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(text), std::string::npos) << r.err;
+}
+
 std::vector<FixtureFeature> snapping_fixture()
 {
     auto attrs = [](int id, const std::string& name) {

@@ -52,6 +52,13 @@ struct FixtureFeature {
 void write_fixture(const std::string& path, const std::string& driver, const std::string& layer,
                    int epsg, OGRwkbGeometryType type, const std::vector<FixtureFeature>& features);
 
+/// snapping_fixture() as layer "parcels" (EPSG:3857, any geometry type) in dir/name; its path.
+std::string write_snapping_gpkg(const TempDir& dir, const std::string& name = "in.gpkg");
+
+/// Exit code `code`, nothing on stdout, exactly one line on stderr, "trisnap: error: ...",
+/// containing `text`.
+void expect_error(const RunOutput& r, int code, const std::string& text);
+
 /// A small layer with what snapping is for: two squares 0.004 apart, a sliver, a line, a
 /// polygon that collapses at t = 0.01, and UTF-8 names.
 std::vector<FixtureFeature> snapping_fixture();

@@ -1,0 +1,27 @@
+# trisnap on Debian 12: build in one stage, run from a slim image with only the runtime libraries.
+#   docker build -t trisnap .
+#   docker run --rm -v "$PWD:/data" trisnap snap /data/in.gpkg /data/out.gpkg --tolerance 0.01
+# Not built on the development machine (no container engine there); see README "Install".
+
+FROM debian:12 AS build
+WORKDIR /src
+COPY scripts/install_deps.sh scripts/install_deps.sh
+RUN bash scripts/install_deps.sh && rm -rf /var/lib/apt/lists/*
+COPY . .
+RUN cmake --preset release -DTRISNAP_BUILD_TESTS=OFF -DTRISNAP_BUILD_BENCH=OFF \
+    && cmake --build --preset release --target trisnap trisnap_docs \
+    && cmake --install build/release --prefix /opt/trisnap \
+    && /opt/trisnap/bin/trisnap --version
+
+FROM debian:12-slim
+# The shared libraries the binary links (ldd): GDAL, oneTBB and its allocator, GMP/MPFR (CGAL's
+# exact kernel), spdlog and fmt. bash-completion is left out: a container runs commands, not a shell.
+RUN apt-get update \
+    && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
+       libgdal32 libtbb12 libtbbmalloc2 libgmp10 libmpfr6 libspdlog1.10 libfmt9 man-db \
+    && rm -rf /var/lib/apt/lists/*
+COPY --from=build /opt/trisnap /usr/local
+RUN trisnap --version
+WORKDIR /data
+ENTRYPOINT ["trisnap"]
+CMD ["--help"]

@@ -1,0 +1,126 @@
+#include "io/problems_layer.hpp"
+
+#include "config/errors.hpp"
+#include "io/gdal_errors.hpp"
+#include "io/io_error.hpp"
+
+#include <gdal_priv.h>
+#include <ogrsf_frmts.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <unistd.h>
+
+namespace trisnap {
+namespace fs = std::filesystem;
+namespace {
+
+/// "GPKG" or "GeoJSON" from the extension, "" for anything else.
+std::string driver_for(const std::string& path)
+{
+    std::string ext = fs::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (ext == ".gpkg") {
+        return "GPKG";
+    }
+    return ext == ".geojson" || ext == ".json" ? "GeoJSON" : "";
+}
+
+void create_fields(OGRLayer& layer, const std::string& path)
+{
+    const std::pair<const char*, OGRFieldType> fields[] = {
+        {"fid", OFTInteger64}, {"code", OFTInteger}, {"name", OFTString}, {"message", OFTString}};
+    for (const auto& [name, type] : fields) {
+        OGRFieldDefn field(name, type);
+        if (layer.CreateField(&field) != OGRERR_NONE) {
+            throw io_error(path, "problems", std::string("cannot create field ") + name);
+        }
+    }
+}
+
+void write_problem(OGRLayer& layer, const Problem& problem, const std::string& path)
+{
+    OGRFeatureUniquePtr feature(OGRFeature::CreateFeature(layer.GetLayerDefn()));
+    feature->SetField("fid", static_cast<GIntBig>(problem.feature_id));
+    feature->SetField("code", static_cast<int>(problem.code));
+    feature->SetField("name", problem_name(problem.code));
+    feature->SetField("message", problem.message.c_str());
+    if (std::isfinite(problem.x) && std::isfinite(problem.y)) {
+        feature->SetGeometryDirectly(new OGRPoint(problem.x, problem.y));
+    }
+    if (layer.CreateFeature(feature.get()) != OGRERR_NONE) {
+        throw io_error(path, "problems", "cannot write the problem of FID " + std::to_string(problem.feature_id));
+    }
+}
+
+/// The layer at `temp`; GPKG keeps its own FID column out of the way of our "fid" field.
+void write_dataset(const std::string& temp, const std::string& path, const std::vector<Problem>& problems,
+                   OGRSpatialReference* srs)
+{
+    GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(driver_for(path).c_str());
+    ScopedErrorCapture capture;
+    GDALDatasetUniquePtr dataset(driver ? driver->Create(temp.c_str(), 0, 0, 0, GDT_Unknown, nullptr) : nullptr);
+    if (!dataset) {
+        throw io_error(path, "", capture.last_error("cannot create the dataset"));
+    }
+    CPLStringList options;
+    if (std::string(driver->GetDescription()) == "GPKG") {
+        options.AddString("FID=problem_id");
+    }
+    OGRLayer* layer = dataset->CreateLayer("problems", srs, wkbPoint, options.List());
+    if (!layer) {
+        throw io_error(path, "problems", capture.last_error("cannot create the layer"));
+    }
+    create_fields(*layer, path);
+    dataset->StartTransaction();
+    for (const Problem& problem : problems) {
+        write_problem(*layer, problem, path);
+    }
+    dataset->CommitTransaction();
+    dataset.reset();
+    if (!capture.errors().empty()) {
+        throw io_error(path, "problems", capture.last_error());
+    }
+}
+
+} // namespace
+
+void check_problems_layer_path(const std::string& path, bool overwrite)
+{
+    if (driver_for(path).empty()) {
+        throw argument_error("--problems-layer " + path + ": give a .gpkg or .geojson file name");
+    }
+    std::error_code ec;
+    if (fs::exists(path, ec) && !overwrite) {
+        throw argument_error("--problems-layer " + path + ": already exists; add --overwrite to replace it");
+    }
+    const fs::path p(path);
+    const fs::path parent = p.has_parent_path() ? p.parent_path() : fs::path(".");
+    if (!fs::is_directory(parent, ec)) {
+        throw argument_error("--problems-layer " + path + ": the directory " + parent.string() + " does not exist");
+    }
+}
+
+void write_problems_layer(const std::string& path, const std::vector<Problem>& problems,
+                          OGRSpatialReference* srs)
+{
+    const fs::path target(path);
+    std::string name = ".";
+    name.append(target.filename().string()).append(".trisnap-tmp-").append(std::to_string(getpid()));
+    const fs::path temp = target.parent_path() / name.append(target.extension().string());
+    std::error_code ec;
+    try {
+        write_dataset(temp.string(), path, problems, srs);
+    } catch (...) {
+        fs::remove(temp, ec);
+        throw;
+    }
+    fs::rename(temp, target, ec);
+    if (ec) {
+        fs::remove(temp, ec);
+        throw io_error(path, "", "cannot move the problems layer into place: " + ec.message());
+    }
+}
+
+} // namespace trisnap

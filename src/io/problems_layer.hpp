@@ -1,0 +1,23 @@
+#pragma once
+// The problems of a run as a point layer (--problems-layer FILE), to open in QGIS next to the
+// output: one point per located problem, unlocated problems as features without geometry.
+#include "core/problems.hpp"
+
+#include <ogr_spatialref.h>
+
+#include <string>
+#include <vector>
+
+namespace trisnap {
+
+/// Refuses a FILE whose extension is neither .gpkg nor .geojson/.json, one that exists without
+/// `overwrite`, and one in a directory that does not exist. Throws argument_error.
+void check_problems_layer_path(const std::string& path, bool overwrite);
+
+/// Writes layer "problems" with fields fid (the input FID), code, name and message, in `srs`
+/// (the input's; may be null), GeoPackage or GeoJSON by extension. Written beside `path` under
+/// a hidden name and renamed into place, so a failure leaves nothing at `path`. Throws io_error.
+void write_problems_layer(const std::string& path, const std::vector<Problem>& problems,
+                          OGRSpatialReference* srs);
+
+} // namespace trisnap

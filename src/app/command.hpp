@@ -23,6 +23,11 @@ std::unique_ptr<Command> make_problems_command();
 std::unique_ptr<Command> make_render_command();
 std::unique_ptr<Command> make_assess_command();
 
+/// A clause main() adds to the error line of a failed command (e.g. that a work directory was
+/// kept for --resume), so a failure stays one line.
+void set_error_note(const std::string& note);
+const std::string& error_note();
+
 /// Log level from -v (repeatable) and -q; logs go to stderr, results to stdout.
 void setup_logging(int verbose, int quiet);
 

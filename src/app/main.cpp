@@ -17,7 +17,8 @@ namespace {
 
 int fail(int code, const std::string& message)
 {
-    std::cerr << "trisnap: error: " << message << "\n";
+    const std::string& note = trisnap::error_note();
+    std::cerr << "trisnap: error: " << message << (note.empty() ? "" : "; " + note) << "\n";
     return code;
 }
 

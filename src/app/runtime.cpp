@@ -22,6 +22,14 @@ void CPL_STDCALL log_gdal_message(CPLErr severity, CPLErrorNum, const char* mess
 
 } // namespace
 
+namespace {
+std::string g_error_note;
+} // namespace
+
+void set_error_note(const std::string& note) { g_error_note = note; }
+
+const std::string& error_note() { return g_error_note; }
+
 void setup_logging(int verbose, int quiet)
 {
     // GDAL's workers may log too: the thread-safe sink.

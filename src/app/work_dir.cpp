@@ -1,10 +1,11 @@
 #include "app/work_dir.hpp"
 
+#include "app/command.hpp"
+
 #include "config/errors.hpp"
 #include "io/io_error.hpp"
 
 #include <nlohmann/json.hpp>
-#include <spdlog/spdlog.h>
 
 #include <filesystem>
 
@@ -13,6 +14,7 @@ namespace fs = std::filesystem;
 namespace {
 
 const char* const k_manifest = "manifest.json";
+const char* const k_created = "created-by-trisnap"; ///< the directory goes with the run
 
 // The first key where two manifests differ, for the message.
 std::string first_difference(const nlohmann::json& a, const nlohmann::json& b, const std::string& prefix = "")
@@ -76,6 +78,9 @@ WorkDir WorkDir::on_disk(const std::string& path, bool resume)
     }
     try {
         w.m_store = tiling::make_directory_store(path);
+        if (w.m_created) {
+            w.m_store->put(k_created, "");
+        }
     } catch (const tiling::work_error& e) {
         throw io_error(path, "", e.what());
     }
@@ -101,6 +106,8 @@ void WorkDir::bind(const std::string& manifest)
         const nlohmann::json earlier = nlohmann::json::parse(m_store->get(k_manifest), nullptr, false);
         const nlohmann::json now = nlohmann::json::parse(manifest);
         if (earlier.is_discarded() || earlier != now) {
+            m_finished = true; // not this run's: leave it exactly as it is
+            m_store.reset();
             throw argument_error("work directory " + m_path + " holds a run of another command or input (" +
                                  (earlier.is_discarded() ? std::string("unreadable manifest") : "differs in " + first_difference(earlier, now)) +
                                  "); remove it or give another --work-dir");
@@ -118,14 +125,15 @@ void WorkDir::finish()
         m_store.reset();
         return;
     }
+    const bool ours = m_created || m_store->exists(k_created);
     m_store.reset();
     std::error_code ec;
-    if (m_created) {
+    if (ours) {
         fs::remove_all(m_path, ec);
         return;
     }
     for (const auto& entry : fs::directory_iterator(m_path, ec)) {
-        fs::remove(entry.path(), ec); // a directory we did not create holds only our files
+        fs::remove(entry.path(), ec); // a directory the user gave holds only our files
     }
 }
 
@@ -138,7 +146,7 @@ void WorkDir::cleanup_after_failure() noexcept
     // Committed work worth continuing: the read pass finished (its metadata is the first
     // thing a resumed run needs).
     if (fs::exists(fs::path(m_path) / "spool.meta", ec)) {
-        spdlog::warn("work directory {} kept: run the same command with --resume to continue", m_path);
+        set_error_note("work directory " + m_path + " kept: add --resume to continue it");
         return;
     }
     m_store.reset();

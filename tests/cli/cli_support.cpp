@@ -9,6 +9,7 @@
 #include <memory>
 #include <set>
 #include <sstream>
+#include <csignal>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -91,6 +92,52 @@ RunOutput run_trisnap(const TempDir& dir, const std::vector<std::string>& args)
     result.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     result.out = file_bytes(out);
     result.err = file_bytes(err);
+    return result;
+}
+
+RunOutput run_trisnap_killed_when(const TempDir& dir, const std::vector<std::string>& args,
+                                  const std::function<bool(const std::string&)>& stop)
+{
+    int pipe_fds[2];
+    if (pipe(pipe_fds) != 0) {
+        ADD_FAILURE() << "pipe failed";
+        return {};
+    }
+    const std::string out = dir.path("stdout.txt");
+    const pid_t pid = fork();
+    if (pid == 0) {
+        std::vector<char*> argv{const_cast<char*>(TRISNAP_EXE)};
+        for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+        argv.push_back(nullptr);
+        dup2(pipe_fds[1], STDERR_FILENO);
+        close(pipe_fds[0]);
+        close(pipe_fds[1]);
+        if (!freopen(out.c_str(), "w", stdout) || !freopen("/dev/null", "r", stdin)) _exit(126);
+        execv(TRISNAP_EXE, argv.data());
+        _exit(127);
+    }
+    close(pipe_fds[1]);
+    RunOutput result;
+    std::string pending;
+    bool killed = false;
+    char buffer[4096];
+    for (ssize_t n; (n = read(pipe_fds[0], buffer, sizeof buffer)) > 0;) {
+        result.err.append(buffer, static_cast<std::size_t>(n));
+        pending.append(buffer, static_cast<std::size_t>(n));
+        for (std::size_t eol; !killed && (eol = pending.find('\n')) != std::string::npos;) {
+            const std::string line = pending.substr(0, eol);
+            pending.erase(0, eol + 1);
+            if (stop(line)) {
+                kill(pid, SIGKILL);
+                killed = true;
+            }
+        }
+    }
+    close(pipe_fds[0]);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    result.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    result.out = file_bytes(out);
     return result;
 }
 

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -35,6 +36,11 @@ private:
 
 /// Runs the trisnap binary with `args`; stdout and stderr go through files in `dir`.
 RunOutput run_trisnap(const TempDir& dir, const std::vector<std::string>& args);
+
+/// Runs the trisnap binary with `args` and kills it (SIGKILL) at the first line it writes on
+/// stderr for which `stop(line)` holds. `code` is 137 when it was killed.
+RunOutput run_trisnap_killed_when(const TempDir& dir, const std::vector<std::string>& args,
+                                  const std::function<bool(const std::string&)>& stop);
 
 std::string data_dir();
 std::string configs_dir();

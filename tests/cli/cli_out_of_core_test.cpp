@@ -1,0 +1,183 @@
+// Out of core from the command line (label slow): a replicated real layer of 218k polygons
+// under --memory-limit 256MiB keeps the process's peak under the limit and writes the bytes of
+// the in-memory run; a run killed (SIGKILL) in three different phases and continued with
+// --resume writes the same bytes; a limit too small for one feature is a clear error that
+// leaves nothing at OUT; work directories of other runs are refused.
+#include "cli_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+namespace trisnap::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string jakarta() { return data_dir() + "/osm_buildings_mvt_boston_jakarta/jakarta_buildings_z13.gpkg"; }
+
+// Four copies of Jakarta's buildings side by side (218k polygons), made once per test binary.
+const std::string& replicated()
+{
+    static const std::string path = [] {
+        const std::string p = (fs::temp_directory_path() / ("trisnap-ooc-" + std::to_string(::getpid()) + ".gpkg")).string();
+        const std::string command = std::string("'") + TRISNAP_MAKE_LARGE_LAYER_EXE + "' '" + jakarta() + "' '" + p +
+                                    "' --polygons 217728 --layer building >/dev/null";
+        return std::system(command.c_str()) == 0 ? p : std::string();
+    }();
+    return path;
+}
+
+class OutOfCore : public ::testing::Test {
+protected:
+    static void TearDownTestSuite()
+    {
+        std::error_code ec;
+        fs::remove(replicated(), ec);
+    }
+    void SetUp() override
+    {
+        if (!exists(jakarta())) {
+            GTEST_SKIP() << "data set absent: " << jakarta();
+        }
+        ASSERT_FALSE(replicated().empty()) << "bench_make_large_layer failed";
+    }
+    /// The in-memory run's bytes (once).
+    const std::string& reference()
+    {
+        static std::string bytes;
+        if (bytes.empty()) {
+            const std::string out = m_dir.path("reference.gpkg");
+            const RunOutput r = run_trisnap(m_dir, {"snap", replicated(), out, "--tolerance", "0.1", "-q"});
+            EXPECT_EQ(r.code, 0) << r.err;
+            bytes = file_bytes(out);
+        }
+        return bytes;
+    }
+    std::vector<std::string> ooc_args(const std::string& out) const
+    {
+        return {"snap", replicated(), out, "--tolerance", "0.1", "--memory-limit", "256MiB", "--threads", "2", "-q"};
+    }
+    TempDir m_dir;
+};
+
+TEST_F(OutOfCore, PeakStaysUnderTheLimitAndBytesEqualTheInMemoryRun)
+{
+    const std::string out = m_dir.path("ooc.gpkg");
+    std::vector<std::string> args = ooc_args(out);
+    args.insert(args.end(), {"--report", out + ".json"});
+    const RunOutput r = run_trisnap(m_dir, args);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const nlohmann::json report = read_json(out + ".json");
+    EXPECT_EQ(report["memory"]["mode"], "out_of_core");
+    EXPECT_LE(report["peak_memory_mb"].get<double>(), 256.0) << "peak RSS over --memory-limit 256MiB";
+    EXPECT_GT(report["tiling"]["tiles"].get<int>(), 4) << "the limit must have made several tiles";
+    EXPECT_GT(report["memory"]["spool_bytes"].get<double>(), 0);
+    EXPECT_FALSE(fs::exists(m_dir.path(".ooc.gpkg.trisnap-work"))) << "work directory left after success";
+    EXPECT_EQ(report["counts"]["written"].get<int>(), 217728);
+    EXPECT_TRUE(file_bytes(out) == reference()) << "out-of-core bytes differ from the in-memory run";
+}
+
+// Killed at the start of the spool phase (the layer is spooled), during the snap phase (some
+// tiles done), at the start of the write phase (every tile done): --resume finishes each.
+TEST_F(OutOfCore, KilledInThreePhasesAndResumedGivesTheSameBytes)
+{
+    struct Kill {
+        const char* phase;
+        bool after_some_work;
+    };
+    for (const Kill k : {Kill{"spool", false}, Kill{"snap", true}, Kill{"write", false}}) {
+        SCOPED_TRACE(k.phase);
+        const std::string out = m_dir.path(std::string("killed_") + k.phase + ".gpkg");
+        std::vector<std::string> args = ooc_args(out);
+        args.push_back("--json-progress");
+        const RunOutput killed = run_trisnap_killed_when(m_dir, args, [&](const std::string& line) {
+            const auto j = nlohmann::json::parse(line, nullptr, false);
+            return !j.is_discarded() && j.value("phase", "") == k.phase && (!k.after_some_work || j.value("done", 0) > 0);
+        });
+        ASSERT_EQ(killed.code, 137) << "not killed: " << killed.err;
+        EXPECT_FALSE(fs::exists(out)) << "a killed run left OUT";
+        const std::string work = m_dir.path(".killed_" + std::string(k.phase) + ".gpkg.trisnap-work");
+        ASSERT_TRUE(fs::exists(work)) << "no work directory to resume";
+        // Without --resume the work directory is refused, never silently reused or removed.
+        RunOutput again = run_trisnap(m_dir, ooc_args(out));
+        EXPECT_EQ(again.code, 2) << again.err;
+        EXPECT_NE(again.err.find("--resume"), std::string::npos) << again.err;
+        std::vector<std::string> resume = ooc_args(out);
+        resume.insert(resume.end(), {"--resume", "--report", out + ".json"});
+        const RunOutput resumed = run_trisnap(m_dir, resume);
+        ASSERT_EQ(resumed.code, 0) << resumed.err;
+        EXPECT_TRUE(read_json(out + ".json")["memory"]["resumed"].get<bool>());
+        EXPECT_TRUE(file_bytes(out) == reference()) << "resumed bytes differ from an uninterrupted run";
+        EXPECT_FALSE(fs::exists(work));
+    }
+}
+
+// A ring of 120k vertices within 10 t of its centre: no tile can be smaller than its halo, so a
+// budget smaller than that one ring is refused before anything is written (the work directory,
+// holding the read layer, is kept for --resume with a larger limit).
+TEST_F(OutOfCore, LimitTooSmallForOneFeatureIsAClearErrorAndLeavesNothing)
+{
+    std::string wkt = "POLYGON((";
+    const int n = 120000;
+    char point[64];
+    for (int i = 0; i <= n; ++i) {
+        const double a = 2 * M_PI * (i % n) / n;
+        std::snprintf(point, sizeof point, "%s%.17g %.17g", i ? "," : "", 10 * std::cos(a), 10 * std::sin(a));
+        wkt += point;
+    }
+    wkt += "))";
+    const std::string in = m_dir.path("dense.gpkg");
+    write_fixture(in, "GPKG", "dense", 3857, wkbPolygon, {FixtureFeature{wkt, {{"id", "1"}}}});
+    const std::string out = m_dir.path("dense_out.gpkg");
+    const RunOutput r = run_trisnap(m_dir, {"snap", in, out, "--tolerance", "1", "--memory-limit", "160MiB"});
+    expect_error(r, 2, "--memory-limit 160 MiB is too small");
+    EXPECT_NE(r.err.find("id 1"), std::string::npos) << "the feature is not named: " << r.err;
+    EXPECT_NE(r.err.find("smallest limit that would work is about"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("kept: add --resume to continue it"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_TRUE(fs::exists(m_dir.path(".dense_out.gpkg.trisnap-work"))) << "the read phase's work is kept for --resume";
+}
+
+TEST_F(OutOfCore, WorkDirectoriesOfOtherRunsAreRefused)
+{
+    const std::string work = m_dir.path("work");
+    const std::string out = m_dir.path("w.gpkg");
+    const std::string in = write_snapping_gpkg(m_dir, "in.gpkg");
+    fs::create_directory(work);
+    std::ofstream(work + "/notes.txt") << "mine";
+    RunOutput r = run_trisnap(m_dir, {"snap", in, out, "--tolerance", "0.01", "--work-dir", work});
+    expect_error(r, 2, "holds files that are not a trisnap run");
+    EXPECT_TRUE(fs::exists(work + "/notes.txt")) << "the user's file was touched";
+    // A run killed after its read phase, then continued with another tolerance: refused.
+    const std::string work2 = m_dir.path("work2");
+    r = run_trisnap_killed_when(m_dir, {"snap", replicated(), out, "--tolerance", "0.1", "--work-dir", work2, "--json-progress"},
+                                [](const std::string& line) { return line.find("\"phase\":\"spool\"") != std::string::npos; });
+    ASSERT_EQ(r.code, 137);
+    r = run_trisnap(m_dir, {"snap", replicated(), out, "--tolerance", "0.2", "--work-dir", work2, "--resume"});
+    expect_error(r, 2, "holds a run of another command or input (differs in snap.tolerance)");
+    r = run_trisnap(m_dir, {"snap", in, out, "--tolerance", "0.1", "--work-dir", work2, "--resume"});
+    expect_error(r, 2, "differs in input");
+    EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(OutOfCoreOptions, MemoryLimitIsReadFromTheConfigAndChecked)
+{
+    TempDir dir;
+    const std::string in = write_snapping_gpkg(dir, "in.gpkg");
+    const std::string cfg = dir.path("c.toml");
+    std::ofstream(cfg) << "[run]\nmemory_limit = \"300MiB\"\n";
+    RunOutput r = run_trisnap(dir, {"snap", in, dir.path("o.gpkg"), "--tolerance", "0.01", "--settings", cfg, "--print-config"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("memory_limit = 314572800"), std::string::npos) << r.out;
+    std::ofstream(cfg) << "[run]\nmemory_limit = \"lots\"\n";
+    r = run_trisnap(dir, {"snap", in, dir.path("o.gpkg"), "--tolerance", "0.01", "--settings", cfg});
+    expect_error(r, 2, "c.toml:2: key 'run.memory_limit'");
+    r = run_trisnap(dir, {"snap", in, dir.path("o.gpkg"), "--tolerance", "0.01", "--memory-limit", "12 parsecs"});
+    expect_error(r, 2, "--memory-limit '12 parsecs'");
+}
+
+} // namespace
+} // namespace trisnap::test

@@ -4,23 +4,13 @@
 #include "app/pipeline.hpp"
 #include "app/plan.hpp"
 #include "app/report.hpp"
-#include "config/errors.hpp"
+#include "io/commit_group.hpp"
 
 #include <chrono>
-#include <filesystem>
 #include <iostream>
 
 namespace trisnap {
 namespace {
-
-void check_report_path(const std::string& path)
-{
-    if (path.empty()) return;
-    const std::filesystem::path p(path);
-    const auto parent = p.has_parent_path() ? p.parent_path() : std::filesystem::path(".");
-    if (!std::filesystem::is_directory(parent))
-        throw argument_error("--report " + path + ": the directory " + parent.string() + " does not exist");
-}
 
 class SnapCommand : public Command {
 public:
@@ -36,14 +26,18 @@ public:
         const std::optional<Config> resolved = start_snap_command(m_args);
         if (!resolved) return 0;
         const Config& config = *resolved;
-        check_report_path(m_args.report);
         const ThreadLimit limit(config.run.threads);
         const auto start = std::chrono::steady_clock::now();
         Progress progress(m_args.progress, m_args.json_progress);
-        Plan plan = make_plan(m_args, config);
+        Plan plan = make_plan(m_args, config); // also checks the report path
+        CommitGroup outputs; // OUT and the report are renamed into place together, or neither
+        plan.write.commit_group = &outputs;
         const RunResult result = run_pipeline(plan, progress);
         const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        if (!m_args.report.empty()) write_report(m_args.report, plan, result, total);
+        if (!m_args.report.empty()) {
+            stage_report(outputs, m_args.report, plan, result, total);
+        }
+        outputs.commit();
         if (m_args.quiet == 0) print_summary(std::cout, plan, result, total);
         return m_args.strict && !result.problems.empty() ? 3 : 0;
     }

@@ -2,15 +2,13 @@
 // main() parses, runs one subcommand and turns each error type into one line and an exit code:
 // 0 ok, 1 processing or I/O error, 2 bad arguments or config, 3 problems under --strict.
 #include "app/command.hpp"
+#include "app/exit_status.hpp"
 #include "app/options.hpp"
 #include "app/version.hpp"
-#include "config/errors.hpp"
-#include "io/io_error.hpp"
 
 #include <gdal_priv.h>
 
 #include <iostream>
-#include <new>
 
 namespace {
 
@@ -24,16 +22,9 @@ int run_command(trisnap::Command& command)
 {
     try {
         return command.run();
-    } catch (const trisnap::argument_error& e) {
-        return fail(2, e.what());
-    } catch (const trisnap::config_error& e) {
-        return fail(2, e.what());
-    } catch (const trisnap::io_error& e) {
-        return fail(1, e.what());
-    } catch (const std::bad_alloc&) {
-        return fail(1, "out of memory; try a smaller --bbox or a machine with more memory");
     } catch (const std::exception& e) {
-        return fail(1, e.what());
+        const trisnap::ExitStatus status = trisnap::exit_status(e);
+        return fail(status.code, status.message);
     }
 }
 

@@ -1,6 +1,7 @@
 #include "app/plan.hpp"
 
 #include "config/errors.hpp"
+#include "io/commit_group.hpp"
 #include "io/dataset.hpp"
 #include "io/gdal_errors.hpp"
 #include "io/layer_info.hpp"
@@ -102,6 +103,22 @@ WriteOptions write_options(const SnapArgs& args)
     return w;
 }
 
+/// No output may be, or replace, a file of the input dataset (compared by real path and
+/// inode, every file GDAL lists): not OUT or any file its driver writes, not the report.
+void protect_input(Plan& plan, const SnapArgs& args, GDALDriver& driver)
+{
+    plan.write.protected_files.add_dataset(*plan.dataset, "the input " + args.input);
+    check_output_files(plan.write, driver);
+    if (args.report.empty()) {
+        return;
+    }
+    ProtectedFiles taken = plan.write.protected_files;
+    for (const std::string& file : dataset_files_for(plan.write.path, driver)) {
+        taken.add_file(file, "OUT " + plan.write.path);
+    }
+    check_text_file_target(args.report, taken, "--report");
+}
+
 } // namespace
 
 double metres_per_degree(double lat)
@@ -123,6 +140,7 @@ Plan make_plan(const SnapArgs& args, const Config& config)
     check_output_path(plan.write, args.input);
     plan.input_path = args.input;
     plan.dataset = open_input(args.input);
+    protect_input(plan, args, driver);
     plan.input_driver = plan.dataset->GetDriverName();
     plan.layer = &select_layer(*plan.dataset, args.input, args.layer);
     plan.crs = describe_crs(plan.layer->GetSpatialRef());

@@ -19,9 +19,14 @@ ScopedErrorCapture::~ScopedErrorCapture() { CPLPopErrorHandler(); }
 
 void ScopedErrorCapture::record(int severity, const char* message)
 {
-    const std::string text = message ? message : "";
-    if (severity >= CE_Failure) m_errors.push_back(text);
-    else if (severity == CE_Warning) m_warnings.push_back(text);
+    std::string text = message ? message : "";
+    // Some drivers end their messages with a newline; ours are one line each.
+    text.erase(text.find_last_not_of(" \n\r\t") + 1);
+    if (severity >= CE_Failure) {
+        m_errors.push_back(text);
+    } else if (severity == CE_Warning) {
+        m_warnings.push_back(text);
+    }
 }
 
 std::string ScopedErrorCapture::last_error(const std::string& fallback) const

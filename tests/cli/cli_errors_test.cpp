@@ -18,16 +18,6 @@ protected:
         return path;
     }
 
-    /// Exit code `code`, nothing on stdout, exactly one line on stderr containing `text`.
-    void expect_error(const RunOutput& r, int code, const std::string& text)
-    {
-        EXPECT_EQ(r.code, code) << r.err;
-        EXPECT_EQ(r.out, "");
-        ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
-        EXPECT_NE(r.err.find("trisnap: error: "), std::string::npos) << r.err;
-        EXPECT_NE(r.err.find(text), std::string::npos) << r.err;
-    }
-
     TempDir dir;
 };
 

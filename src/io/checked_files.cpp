@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cstring>
 #include <map>
+#include <memory>
 #include <mutex>
 
 namespace trisnap {
@@ -78,38 +79,32 @@ size_t write_file(void* handle, const void* buffer, size_t size, size_t count)
     return written;
 }
 
-int flush_file(void* handle)
+/// `result` of a flush, truncate or close (0 = success), recorded when it failed.
+int checked(const CheckedFile& f, const char* what, int result)
 {
-    CheckedFile* f = as_file(handle);
-    errno = 0;
-    const int result = VSIFFlushL(f->file);
     if (result != 0) {
-        record_failure(f->path, "flush");
+        record_failure(f.path, what);
     }
     return result;
+}
+
+int flush_file(void* handle)
+{
+    errno = 0;
+    return checked(*as_file(handle), "flush", VSIFFlushL(as_file(handle)->file));
 }
 
 int truncate_file(void* handle, vsi_l_offset size)
 {
-    CheckedFile* f = as_file(handle);
     errno = 0;
-    const int result = VSIFTruncateL(f->file, size);
-    if (result != 0) {
-        record_failure(f->path, "truncate");
-    }
-    return result;
+    return checked(*as_file(handle), "truncate", VSIFTruncateL(as_file(handle)->file, size));
 }
 
 int close_file(void* handle)
 {
-    CheckedFile* f = as_file(handle);
+    const std::unique_ptr<CheckedFile> f(as_file(handle));
     errno = 0;
-    const int result = VSIFCloseL(f->file);
-    if (result != 0) {
-        record_failure(f->path, "close");
-    }
-    delete f;
-    return result;
+    return checked(*f, "close", VSIFCloseL(f->file));
 }
 
 int stat_path(void*, const char* filename, VSIStatBufL* buffer, int flags)

@@ -4,6 +4,7 @@
 #include "io/commit_group.hpp"
 #include "io/io_error.hpp"
 #include "io/temp_files.hpp"
+#include "scratch_dir.hpp"
 
 #include <gtest/gtest.h>
 
@@ -19,16 +20,6 @@ namespace fs = std::filesystem;
 
 class CommitGroupTest : public ::testing::Test {
 protected:
-    CommitGroupTest()
-    {
-        std::string pattern = (fs::temp_directory_path() / "trisnap-unit-io-XXXXXX").string();
-        m_dir = mkdtemp(pattern.data());
-    }
-    ~CommitGroupTest() override
-    {
-        std::error_code ec;
-        fs::remove_all(m_dir, ec);
-    }
     fs::path path(const std::string& name) const { return m_dir / name; }
     void write(const std::string& name, const std::string& text) const { std::ofstream(path(name)) << text; }
     std::string read(const std::string& name) const
@@ -48,7 +39,8 @@ protected:
         return out;
     }
 
-    fs::path m_dir;
+    test::ScratchDir m_scratch;
+    const fs::path& m_dir = m_scratch.path();
 };
 
 TEST_F(CommitGroupTest, RenamesEveryStagedFileInOrder)

@@ -1,6 +1,7 @@
 // ProtectedFiles: one file under any of its names; the files a driver writes for a dataset.
 #include "config/errors.hpp"
 #include "io/file_safety.hpp"
+#include "scratch_dir.hpp"
 
 #include <gtest/gtest.h>
 
@@ -16,18 +17,12 @@ class FileSafetyTest : public ::testing::Test {
 protected:
     FileSafetyTest()
     {
-        std::string pattern = (fs::temp_directory_path() / "trisnap-unit-io-XXXXXX").string();
-        m_dir = mkdtemp(pattern.data());
         std::ofstream(m_dir / "in.gpkg") << "data";
         fs::create_directory(m_dir / "sub");
         m_input.add_file((m_dir / "in.gpkg").string(), "the input in.gpkg");
     }
-    ~FileSafetyTest() override
-    {
-        std::error_code ec;
-        fs::remove_all(m_dir, ec);
-    }
-    fs::path m_dir;
+    test::ScratchDir m_scratch;
+    const fs::path& m_dir = m_scratch.path();
     ProtectedFiles m_input;
 };
 

@@ -137,7 +137,8 @@ char** read_directory(void*, const char* dirname, int max_files)
     return VSIReadDirEx(dirname, max_files);
 }
 
-void set_file_callbacks(VSIFilesystemPluginCallbacksStruct& cb)
+/// Every call forwarded to the local file system; the file calls that write are checked.
+void set_callbacks(VSIFilesystemPluginCallbacksStruct& cb)
 {
     cb.open = open_file;
     cb.tell = tell_file;
@@ -148,10 +149,6 @@ void set_file_callbacks(VSIFilesystemPluginCallbacksStruct& cb)
     cb.flush = flush_file;
     cb.truncate = truncate_file;
     cb.close = close_file;
-}
-
-void set_path_callbacks(VSIFilesystemPluginCallbacksStruct& cb)
-{
     cb.stat = stat_path;
     cb.unlink = unlink_path;
     cb.rename = rename_path;
@@ -163,8 +160,7 @@ void set_path_callbacks(VSIFilesystemPluginCallbacksStruct& cb)
 void install()
 {
     VSIFilesystemPluginCallbacksStruct* cb = VSIAllocFilesystemPluginCallbacksStruct();
-    set_file_callbacks(*cb);
-    set_path_callbacks(*cb);
+    set_callbacks(*cb);
     VSIInstallPluginHandler(k_prefix, cb);
     VSIFreeFilesystemPluginCallbacksStruct(cb); // the handler keeps its own copy
 }

@@ -142,6 +142,18 @@ void ProtectedFiles::refuse(const std::string& path, const std::string& what) co
     throw argument_error(what + " " + path + ": is a file of " + entry->label + same + "; choose another path");
 }
 
+void ProtectedFiles::refuse_tree(const std::string& directory, const std::string& what) const
+{
+    refuse(directory, what);
+    const std::string root = identify_file(directory).real_path + "/";
+    for (const Entry& entry : m_files) {
+        if (entry.identity.real_path.compare(0, root.size(), root) == 0) {
+            throw argument_error(what + " " + directory + ": holds " + entry.path + ", a file of " + entry.label +
+                                 "; choose another directory");
+        }
+    }
+}
+
 std::vector<std::string> dataset_files_for(const std::string& path, GDALDriver& driver)
 {
     std::vector<std::string> files{path};

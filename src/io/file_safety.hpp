@@ -37,6 +37,9 @@ public:
     /// Throws argument_error "WHAT PATH: is FILE, a file of LABEL; choose another path" when
     /// `path` is one of the protected files. `what` names the option ("OUT", "--report").
     void refuse(const std::string& path, const std::string& what) const;
+    /// For a directory that a run fills and then removes (a work directory): throws
+    /// argument_error when `directory` is, or holds at any depth, one of the protected files.
+    void refuse_tree(const std::string& directory, const std::string& what) const;
     bool empty() const { return m_files.empty(); }
 
 private:

@@ -55,6 +55,15 @@ TEST_F(FileSafetyTest, AFileToBeMatchesThroughASymlinkedDirectory)
     EXPECT_EQ(out.owner_of((m_dir / "sub" / "up" / "out.gpkg").string()), "OUT");
 }
 
+TEST_F(FileSafetyTest, AWorkDirectoryMustNotHoldTheInput)
+{
+    EXPECT_THROW(m_input.refuse_tree(m_dir.string(), "--work-dir"), argument_error);
+    fs::create_directory_symlink(m_dir, m_dir / "sub" / "up");
+    EXPECT_THROW(m_input.refuse_tree((m_dir / "sub" / "up").string(), "--work-dir"), argument_error);
+    EXPECT_NO_THROW(m_input.refuse_tree((m_dir / "sub").string(), "--work-dir"));
+    EXPECT_NO_THROW(m_input.refuse_tree((m_dir / "new").string(), "--work-dir")) << "one to be created";
+}
+
 TEST_F(FileSafetyTest, AShapefileIsSeveralFiles)
 {
     GDALAllRegister();

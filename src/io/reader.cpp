@@ -144,7 +144,7 @@ OGRFeatureUniquePtr LayerReader::next_ogr_feature()
     }
 }
 
-std::optional<InputFeature> LayerReader::next()
+OGRFeatureUniquePtr LayerReader::next_raw()
 {
     ScopedErrorCapture capture;
     OGRFeatureUniquePtr f = next_ogr_feature();
@@ -152,11 +152,18 @@ std::optional<InputFeature> LayerReader::next()
     if (!f && !capture.errors().empty()) {
         throw io_error(m_dataset.GetDescription(), m_layer.GetName(), capture.last_error());
     }
+    m_feature_error = capture.errors().empty() ? "" : capture.last_error();
+    return f;
+}
+
+std::optional<InputFeature> LayerReader::next()
+{
+    OGRFeatureUniquePtr f = next_raw();
     if (!f) {
         return std::nullopt;
     }
-    if (!capture.errors().empty() && is_null_or_empty(f->GetGeometryRef())) {
-        return unreadable(std::move(f), capture.last_error());
+    if (!m_feature_error.empty() && is_null_or_empty(f->GetGeometryRef())) {
+        return unreadable(std::move(f), m_feature_error);
     }
     return classify_feature(std::move(f));
 }

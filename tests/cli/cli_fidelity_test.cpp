@@ -33,6 +33,15 @@ bool has_problem(const nlohmann::json& report, int code, std::int64_t fid, const
     });
 }
 
+std::string repeated(const std::string& text, int times)
+{
+    std::string out;
+    for (int i = 0; i < times; ++i) {
+        out += text;
+    }
+    return out;
+}
+
 /// A GPKG layer with what a Shapefile cannot hold: a long field name, strings over 254 bytes,
 /// a Real that 15 decimals round to 0, one too wide for 24 characters, a time of day.
 void write_awkward_values(const std::string& path)
@@ -49,7 +58,7 @@ void write_awkward_values(const std::string& path)
     }
     const std::vector<std::vector<std::string>> rows = {
         {"one", std::string(300, 'x'), "1e-300", "2020-01-02T03:04:05"},
-        {"two", [] { std::string s; for (int i = 0; i < 150; ++i) s += "\xC3\xA9"; return s; }(), "0.25", "2020-01-02T00:00:00"},
+        {"two", repeated("\xC3\xA9", 150), "0.25", "2020-01-02T00:00:00"}, // 150 characters, 300 bytes
         {"three", "short", "-1e300", "2021-05-06T00:00:00"},
     };
     for (std::size_t i = 0; i < rows.size(); ++i) {

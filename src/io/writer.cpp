@@ -118,6 +118,10 @@ LayerWriter::LayerWriter(const WriteOptions& options, OGRLayer& source)
     if (!CPLGetConfigOption("OGR_CURRENT_DATE", nullptr)) {
         CPLSetConfigOption("OGR_CURRENT_DATE", "2000-01-01T00:00:00.000Z");
     }
+    // CSV writes the geometry as WKT with 15 significant digits, which can move snapped vertices.
+    if (m_driver_name == "CSV" && !CPLGetConfigOption("OGR_WKT_PRECISION", nullptr)) {
+        CPLSetConfigOption("OGR_WKT_PRECISION", "17");
+    }
     const ScratchDirectory scratch(m_temp.path());
     create_dataset(driver);
     create_layer(source, layer_options(driver, source));

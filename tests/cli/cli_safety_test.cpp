@@ -32,6 +32,19 @@ std::vector<FixtureFeature> many_polygons(int n)
     return features;
 }
 
+/// x, y of the exterior ring of the first feature, as stored (no text in between).
+std::vector<double> ring_coordinates(const std::string& path)
+{
+    GDALDatasetUniquePtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR));
+    OGRFeatureUniquePtr f(ds->GetLayer(0)->GetNextFeature());
+    std::vector<double> out;
+    for (const OGRPoint& p : *f->GetGeometryRef()->toPolygon()->getExteriorRing()) {
+        out.push_back(p.getX());
+        out.push_back(p.getY());
+    }
+    return out;
+}
+
 class CliSafety : public ::testing::Test {
 protected:
     std::string fixture(const std::string& name = "in.gpkg", const std::string& driver = "GPKG")
@@ -239,7 +252,7 @@ TEST_F(CliSafety, FormatsThatWriteNoFileOrNoGeometryAreRefused)
     expect_no_leftovers();
 }
 
-TEST_F(CliSafety, CsvKeepsTheGeometriesAsWkt)
+TEST_F(CliSafety, CsvKeepsTheGeometriesAsWktToTheLastBit)
 {
     const std::string out = dir.path("out.csv");
     const RunOutput r = run_trisnap(dir, {"snap", fixture(), out, "--tolerance", "0.01", "-q"});
@@ -250,6 +263,13 @@ TEST_F(CliSafety, CsvKeepsTheGeometriesAsWkt)
         EXPECT_TRUE(f.has_geometry) << "orig_fid " << f.fields.at("orig_fid");
         EXPECT_TRUE(f.valid) << f.wkt;
     }
+    // A coordinate that needs 17 digits comes back as the same double as from a GeoPackage.
+    const std::string in = dir.path("digits.gpkg");
+    write_fixture(in, "GPKG", "digits", 3857, wkbPolygon,
+                  {{"POLYGON ((0.12345678901234567 0,1 0,1 1,0 1,0.12345678901234567 0))", {{"id", "1"}}}});
+    ASSERT_EQ(run_trisnap(dir, {"snap", in, dir.path("d.csv"), "--tolerance", "1e-9", "-q"}).code, 0);
+    ASSERT_EQ(run_trisnap(dir, {"snap", in, dir.path("d.gpkg"), "--tolerance", "1e-9", "-q"}).code, 0);
+    EXPECT_EQ(ring_coordinates(dir.path("d.csv")), ring_coordinates(dir.path("d.gpkg")));
 }
 
 } // namespace

@@ -8,9 +8,9 @@
 #include "config/errors.hpp"
 #include "io/output_driver.hpp"
 #include "io/problems_layer.hpp"
+#include "io/commit_group.hpp"
 
 #include <chrono>
-#include <filesystem>
 #include <iostream>
 
 namespace trisnap {
@@ -34,9 +34,13 @@ public:
         const auto start = std::chrono::steady_clock::now();
         Progress progress(m_args.progress, m_args.json_progress);
         Plan plan;
-        const RunResult result = snap_run(m_args, config, progress, plan);
-        const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        if (!m_args.report.empty()) write_report(m_args.report, plan, result, total);
+        double total = 0;
+        const RunResult result = snap_run(m_args, config, progress, plan, [&](CommitGroup& outputs, const Plan& p, const RunResult& r) {
+            total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            if (!m_args.report.empty()) {
+                stage_report(outputs, m_args.report, p, r, total);
+            }
+        });
         if (!m_args.problems_layer.empty())
             write_problems_layer(m_args.problems_layer, result.problems, plan.layer->GetSpatialRef());
         if (m_args.quiet == 0) print_summary(is_stdout_path(plan.write.path) ? std::cerr : std::cout, plan, result, total);

@@ -7,11 +7,13 @@
 #include "app/suggest.hpp"
 #include "config/errors.hpp"
 #include "io/io_error.hpp"
+#include "app/exit_status.hpp"
+#include "app/options.hpp"
+#include "app/version.hpp"
 
 #include <gdal_priv.h>
 
 #include <iostream>
-#include <new>
 
 namespace {
 
@@ -26,16 +28,9 @@ int run_command(trisnap::Command& command)
 {
     try {
         return command.run();
-    } catch (const trisnap::argument_error& e) {
-        return fail(2, e.what());
-    } catch (const trisnap::config_error& e) {
-        return fail(2, e.what());
-    } catch (const trisnap::io_error& e) {
-        return fail(1, e.what());
-    } catch (const std::bad_alloc&) {
-        return fail(1, "out of memory; try a smaller --bbox or a machine with more memory");
     } catch (const std::exception& e) {
-        return fail(1, e.what());
+        const trisnap::ExitStatus status = trisnap::exit_status(e);
+        return fail(status.code, status.message);
     }
 }
 

@@ -11,6 +11,8 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -218,7 +220,7 @@ RunResult run_pipeline(Plan& plan, WorkDir& work, const RunBudget& budget, Progr
     return Pipeline(plan, work, budget, progress).run();
 }
 
-RunResult snap_run(const SnapArgs& args, const Config& config, Progress& progress, Plan& plan)
+RunResult snap_run(const SnapArgs& args, const Config& config, Progress& progress, Plan& plan, const StageOutputs& stage)
 {
     if (args.input.empty() || args.output.empty()) {
         throw argument_error(std::string("missing ") + (args.input.empty() ? "IN" : "OUT") + ": trisnap snap IN OUT --tolerance T");
@@ -228,10 +230,20 @@ RunResult snap_run(const SnapArgs& args, const Config& config, Progress& progres
     apply_gdal_budget(budget);
     const auto start = Clock::now();
     plan = make_plan(args, config);
+    if (work.on_disk()) {
+        plan.write.protected_files.refuse_tree(work.path(), "--work-dir");
+    }
     work.bind(run_manifest(plan));
     const double open = since(start);
+    CommitGroup outputs; // OUT and the report go into place together, or neither
+    plan.write.commit_group = &outputs;
     RunResult result = run_pipeline(plan, work, budget, progress);
     result.seconds_open = open;
+    if (stage) {
+        stage(outputs, plan, result);
+    }
+    outputs.commit();
+    plan.write.commit_group = nullptr;
     work.finish();
     return result;
 }
@@ -254,7 +266,7 @@ std::string run_manifest(const Plan& plan)
         {"tiling", {{"single", t.plan.single}, {"size", t.plan.tile_size}, {"vertex_budget", t.plan.vertex_budget},
                     {"halo", t.halo_factor}, {"max_growth", t.max_growth}}},
     };
-    return m.dump(2);
+    return m.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
 }
 
 } // namespace trisnap

@@ -16,9 +16,11 @@
 #include "app/progress.hpp"
 #include "app/work_dir.hpp"
 #include "core/problems.hpp"
+#include "io/commit_group.hpp"
 #include "core/snap.hpp"
 #include "stitch/tiled_snap.hpp"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -60,10 +62,15 @@ struct RunResult {
 /// the memory limit is too small (naming the feature or tile and the smallest limit that works).
 RunResult run_pipeline(Plan& plan, WorkDir& work, const RunBudget& budget, Progress& progress);
 
+/// Files added to OUT's commit (the report) once the run is done, before they all go into place.
+using StageOutputs = std::function<void(CommitGroup&, const Plan&, const RunResult&)>;
+
 /// A snap run as the CLI makes it: the budget, the work directory (continued with --resume),
-/// the plan (opens the input; `plan` receives it), the pipeline; the work directory is removed
-/// after success. `seconds_open` of the result is the plan's time.
-RunResult snap_run(const SnapArgs& args, const Config& config, Progress& progress, Plan& plan);
+/// the plan (opens the input; `plan` receives it), the pipeline, then OUT and what `stage`
+/// adds renamed into place together; the work directory is removed after that. `seconds_open`
+/// of the result is the plan's time.
+RunResult snap_run(const SnapArgs& args, const Config& config, Progress& progress, Plan& plan,
+                   const StageOutputs& stage = {});
 
 /// The manifest of a run for its work directory: what must match for --resume.
 std::string run_manifest(const Plan& plan);

@@ -2,6 +2,7 @@
 
 #include "app/text.hpp"
 #include "config/errors.hpp"
+#include "io/commit_group.hpp"
 #include "io/dataset.hpp"
 #include "io/gdal_errors.hpp"
 #include "io/io_error.hpp"
@@ -182,6 +183,25 @@ void log_plan(const Plan& plan)
     }
 }
 
+/// No output may be, or replace, a file of the input dataset (compared by real path and
+/// inode, every file GDAL lists): not OUT or any file its driver writes, not the report or the
+/// problems layer.
+void protect_input(Plan& plan, const SnapArgs& args, GDALDriver& driver)
+{
+    plan.write.protected_files.add_dataset(*plan.dataset, "the input " + args.input);
+    check_output_files(plan.write, driver);
+    ProtectedFiles taken = plan.write.protected_files;
+    for (const std::string& file : dataset_files_for(plan.write.path, driver)) {
+        taken.add_file(file, "OUT " + plan.write.path);
+    }
+    if (!args.report.empty()) {
+        check_text_file_target(args.report, taken, "--report");
+    }
+    if (!args.problems_layer.empty()) {
+        check_text_file_target(args.problems_layer, taken, "--problems-layer");
+    }
+}
+
 } // namespace
 
 double metres_per_degree(double lat)
@@ -204,6 +224,7 @@ Plan make_plan(const SnapArgs& args, const Config& config)
     plan.input_path = args.input;
     check_key_values(args.open_options, "--oo");
     plan.dataset = open_input(args.input, args.open_options);
+    protect_input(plan, args, driver);
     plan.input_driver = plan.dataset->GetDriverName();
     plan.layer = &select_layer(*plan.dataset, args.input, args.layer);
     plan.crs = describe_crs(plan.layer->GetSpatialRef());

@@ -9,7 +9,6 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
-#include <fstream>
 #include <ostream>
 #include <sys/resource.h>
 
@@ -143,7 +142,7 @@ std::map<int, std::size_t> count_by_code(const std::vector<Problem>& problems)
     return counts;
 }
 
-void write_report(const std::string& path, const Plan& plan, const RunResult& result, double total_seconds)
+std::string report_text(const Plan& plan, const RunResult& result, double total_seconds)
 {
     ordered_json report = {{"tool", "trisnap"}, {"version", k_version}, {"command", "snap"}};
     report.update(io_json(plan, result));
@@ -156,9 +155,18 @@ void write_report(const std::string& path, const Plan& plan, const RunResult& re
     report["tiling"] = tiling_json(result);
     report["problems_by_code"] = by_code_json(result.problems);
     report["problems"] = problems_json(result.problems);
-    std::ofstream file(path);
-    file << report.dump(2) << "\n";
-    if (!file) throw io_error(path, "", "cannot write the report");
+    return report.dump(2, ' ', false, ordered_json::error_handler_t::replace) + "\n";
+}
+
+void write_report(const std::string& path, const Plan& plan, const RunResult& result, double total_seconds)
+{
+    write_text_file_atomically(path, report_text(plan, result, total_seconds), plan.write.protected_files, "--report");
+}
+
+void stage_report(CommitGroup& group, const std::string& path, const Plan& plan, const RunResult& result,
+                  double total_seconds)
+{
+    stage_text_file(group, path, report_text(plan, result, total_seconds), plan.write.protected_files, "--report");
 }
 
 void print_summary(std::ostream& out, const Plan& plan, const RunResult& r, double total_seconds)

@@ -7,6 +7,8 @@
 #include "io/ogr_geometry.hpp"
 #include "io/reader.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <limits>
 #include <set>
 
@@ -148,6 +150,12 @@ void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerge
     progress.finish();
     interrupt.check();
     writer.commit();
+    for (Problem& p : writer.take_problems()) {
+        result.problems.push_back(std::move(p)); // values and field names the format changed
+    }
+    for (const std::string& line : writer.warnings()) {
+        spdlog::warn("{}: {}", plan.write.path, line); // one line per field and kind, not per feature
+    }
     result.written = writer.written();
 }
 

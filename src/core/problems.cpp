@@ -15,6 +15,8 @@ constexpr std::array k_catalogue{
     ProblemInfo{ProblemCode::empty_geometry, "empty_geometry", "null or empty geometry; nothing to snap"},
     ProblemInfo{ProblemCode::unsupported_geometry, "unsupported_geometry", "geometry type that is not snapped (e.g. a collection); passed through or rejected"},
     ProblemInfo{ProblemCode::huge_coordinate, "huge_coordinate", "coordinate too large for the tolerance at double precision; feature rejected"},
+    ProblemInfo{ProblemCode::unreadable_geometry, "unreadable_geometry", "the driver could not read the geometry (GDAL's message says why); feature rejected"},
+    ProblemInfo{ProblemCode::non_finite_z, "non_finite_z", "NaN or infinite Z; those vertices lose their Z (written as 0 unless merged with a vertex that has one)"},
     ProblemInfo{ProblemCode::collapsed_polygon, "collapsed_polygon", "polygon thinner than the tolerance vanished entirely"},
     ProblemInfo{ProblemCode::collapsed_line, "collapsed_line", "line shorter than the tolerance vanished entirely"},
     ProblemInfo{ProblemCode::part_removed, "part_removed", "some polygon or line parts vanished, others remain"},
@@ -28,6 +30,8 @@ constexpr std::array k_catalogue{
     ProblemInfo{ProblemCode::seam_cascade, "seam_cascade", "a snap cascade reached a tile halo; the tile was re-run wider"},
     ProblemInfo{ProblemCode::unreadable_feature, "unreadable_feature", "the driver could not read this feature"},
     ProblemInfo{ProblemCode::unwritable_feature, "unwritable_feature", "the driver refused to write this feature"},
+    ProblemInfo{ProblemCode::value_changed, "value_changed", "the output format cannot hold a field value as it was: cut, rounded or converted (the message names the field)"},
+    ProblemInfo{ProblemCode::field_renamed, "field_renamed", "the output driver renamed a field (e.g. Shapefile names of more than 10 characters); FID -1: the whole layer"},
 };
 } // namespace
 

@@ -18,6 +18,8 @@ enum class ProblemCode : int {
     empty_geometry = 107,         ///< null or empty geometry; nothing to snap
     unsupported_geometry = 108,   ///< geometry type the engine does not snap (e.g. a collection)
     huge_coordinate = 109,        ///< |coordinate| too large for the tolerance; feature rejected
+    unreadable_geometry = 110,    ///< the driver failed to read the geometry; feature rejected
+    non_finite_z = 111,           ///< NaN or infinite Z; those vertices lose their Z
     // 2xx: snapping
     collapsed_polygon = 201,      ///< polygon thinner than the tolerance vanished entirely
     collapsed_line = 202,         ///< line shorter than the tolerance vanished entirely
@@ -34,6 +36,8 @@ enum class ProblemCode : int {
     // 9xx: I/O
     unreadable_feature = 901,     ///< the driver could not read this feature
     unwritable_feature = 902,     ///< the driver refused to write this feature
+    value_changed = 903,          ///< the output cannot hold a field value as it was (cut, rounded...)
+    field_renamed = 904,          ///< the output driver renamed a field (feature id -1: the layer)
 };
 
 struct ProblemInfo {

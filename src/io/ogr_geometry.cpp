@@ -1,53 +1,76 @@
 #include "io/ogr_geometry.hpp"
 
 #include <cmath>
+#include <limits>
 #include <memory>
 
 namespace trisnap {
 namespace {
 
-bool read_path(const OGRSimpleCurve& curve, Path& out)
+/// Z is kept only when finite: the engine averages the z of merged vertices and interpolates
+/// along edges, so one infinite z would spread to every neighbour that shares the vertex. A NaN
+/// z means "no z" to the engine, which then takes the z of what the vertex merges with.
+double checked_z(double z, ReadNotes& notes)
+{
+    if (std::isfinite(z)) {
+        return z;
+    }
+    ++notes.non_finite_z;
+    return std::numeric_limits<double>::quiet_NaN();
+}
+
+bool read_path(const OGRSimpleCurve& curve, Path& out, ReadNotes& notes)
 {
     const int n = curve.getNumPoints();
     out.reserve(static_cast<std::size_t>(n));
     const bool has_z = curve.Is3D();
     for (int i = 0; i < n; ++i) {
         Coord c{curve.getX(i), curve.getY(i)};
-        if (has_z) c.z = curve.getZ(i);
-        if (!std::isfinite(c.x) || !std::isfinite(c.y)) return false;
+        if (has_z) {
+            c.z = checked_z(curve.getZ(i), notes);
+        }
+        if (!std::isfinite(c.x) || !std::isfinite(c.y)) {
+            return false;
+        }
         out.push_back(c);
     }
     return true;
 }
 
-bool read_polygon(const OGRPolygon& polygon, Polygon& out)
+bool read_polygon(const OGRPolygon& polygon, Polygon& out, ReadNotes& notes)
 {
     for (const OGRLinearRing* ring : polygon) {
         out.rings.emplace_back();
-        if (!read_path(*ring, out.rings.back())) return false;
+        if (!read_path(*ring, out.rings.back(), notes)) {
+            return false;
+        }
     }
     return true;
 }
 
-bool read_linear(const OGRGeometry& g, Geometry& out)
+bool read_linear(const OGRGeometry& g, Geometry& out, ReadNotes& notes)
 {
     switch (wkbFlatten(g.getGeometryType())) {
     case wkbPolygon:
         out.polygons.emplace_back();
-        return read_polygon(*g.toPolygon(), out.polygons.back());
+        return read_polygon(*g.toPolygon(), out.polygons.back(), notes);
     case wkbMultiPolygon:
         for (const OGRPolygon* p : *g.toMultiPolygon()) {
             out.polygons.emplace_back();
-            if (!read_polygon(*p, out.polygons.back())) return false;
+            if (!read_polygon(*p, out.polygons.back(), notes)) {
+                return false;
+            }
         }
         return true;
     case wkbLineString:
         out.lines.emplace_back();
-        return read_path(*g.toLineString(), out.lines.back());
+        return read_path(*g.toLineString(), out.lines.back(), notes);
     default: // wkbMultiLineString, checked by the caller
         for (const OGRLineString* l : *g.toMultiLineString()) {
             out.lines.emplace_back();
-            if (!read_path(*l, out.lines.back())) return false;
+            if (!read_path(*l, out.lines.back(), notes)) {
+                return false;
+            }
         }
         return true;
     }
@@ -103,6 +126,12 @@ OGRGeometry* make_lineal(const Geometry& g, bool multi)
 
 GeometryVerdict from_ogr(const OGRGeometry* source, Geometry& out)
 {
+    ReadNotes ignored;
+    return from_ogr(source, out, ignored);
+}
+
+GeometryVerdict from_ogr(const OGRGeometry* source, Geometry& out, ReadNotes& notes)
+{
     if (!source || source->IsEmpty()) return GeometryVerdict::empty;
     const OGRwkbGeometryType type = wkbFlatten(source->getGeometryType());
     if (type == wkbPoint || type == wkbMultiPoint) return GeometryVerdict::pass_through;
@@ -113,7 +142,7 @@ GeometryVerdict from_ogr(const OGRGeometry* source, Geometry& out)
     out.type = engine_type(wkbFlatten(g.getGeometryType()));
     if (out.type == Geometry::Type::Empty) return GeometryVerdict::unsupported;
     out.has_z = g.Is3D();
-    if (!read_linear(g, out)) return GeometryVerdict::non_finite;
+    if (!read_linear(g, out, notes)) return GeometryVerdict::non_finite;
     return GeometryVerdict::snap;
 }
 

@@ -17,7 +17,14 @@ enum class GeometryVerdict {
     non_finite,   ///< NaN or infinite coordinate: rejected (not written), problem 106
 };
 
-/// Converts `source` into `out` when the verdict is `snap`; `source` may be null.
+/// What a conversion noticed without rejecting the geometry.
+struct ReadNotes {
+    std::size_t non_finite_z = 0; ///< vertices whose NaN or infinite Z became "no Z" (NaN)
+};
+
+/// Converts `source` into `out` when the verdict is `snap`; `source` may be null. A NaN or
+/// infinite Z becomes NaN ("no Z"), counted in `notes`.
+GeometryVerdict from_ogr(const OGRGeometry* source, Geometry& out, ReadNotes& notes);
 GeometryVerdict from_ogr(const OGRGeometry* source, Geometry& out);
 
 /// Builds the OGR geometry for an engine result. `like` is the input's flattened type: a

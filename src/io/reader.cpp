@@ -41,6 +41,49 @@ std::string type_name(const OGRGeometry* g)
     return g ? OGRGeometryTypeToName(g->getGeometryType()) : "null";
 }
 
+bool is_null_or_empty(const OGRGeometry* g)
+{
+    return g == nullptr || g->IsEmpty();
+}
+
+/// A feature whose geometry the driver failed to read (a garbage blob, a .shp cut short): GDAL
+/// hands back a null geometry and an error. Writing it as a null geometry would pass off lost
+/// data as a feature without geometry, so it is rejected with GDAL's message.
+InputFeature unreadable(OGRFeatureUniquePtr feature, const std::string& gdal_message)
+{
+    InputFeature in;
+    in.fid = feature->GetFID();
+    in.problem = make_problem(in.fid, ProblemCode::unreadable_geometry,
+                              "the geometry cannot be read (GDAL: " + gdal_message + "); feature not written", nullptr);
+    in.rejected = true;
+    in.feature = std::move(feature);
+    return in;
+}
+
+OGRwkbGeometryType ogr_type(const Geometry& g)
+{
+    switch (g.type) {
+    case Geometry::Type::Polygon:
+        return wkbPolygon;
+    case Geometry::Type::MultiPolygon:
+        return wkbMultiPolygon;
+    case Geometry::Type::LineString:
+        return wkbLineString;
+    default:
+        return wkbMultiLineString;
+    }
+}
+
+void note_non_finite_z(InputFeature& in, const ReadNotes& notes, const OGRGeometry* g)
+{
+    if (notes.non_finite_z == 0) {
+        return;
+    }
+    const std::string message = std::to_string(notes.non_finite_z) +
+                                " vertices with NaN or infinite Z; they lose their Z (0 unless merged with a vertex that has one)";
+    in.problem = make_problem(in.fid, ProblemCode::non_finite_z, message, g);
+}
+
 } // namespace
 
 InputFeature classify_feature(OGRFeatureUniquePtr feature)
@@ -49,12 +92,12 @@ InputFeature classify_feature(OGRFeatureUniquePtr feature)
     in.fid = feature->GetFID();
     const OGRGeometry* g = feature->GetGeometryRef();
     Geometry converted;
-    switch (from_ogr(g, converted)) {
+    ReadNotes notes;
+    switch (from_ogr(g, converted, notes)) {
     case GeometryVerdict::snap:
-        in.input_type = wkbFlatten(converted.is_polygonal()
-                                       ? (converted.type == Geometry::Type::Polygon ? wkbPolygon : wkbMultiPolygon)
-                                       : (converted.type == Geometry::Type::LineString ? wkbLineString : wkbMultiLineString));
+        in.input_type = ogr_type(converted);
         in.geometry = std::move(converted);
+        note_non_finite_z(in, notes, g);
         feature->SetGeometryDirectly(nullptr); // the engine's result replaces it
         break;
     case GeometryVerdict::pass_through:
@@ -106,14 +149,22 @@ OGRFeatureUniquePtr LayerReader::next_raw()
     ScopedErrorCapture capture;
     OGRFeatureUniquePtr f = next_ogr_feature();
     // A null feature after an error is a broken file, not the end of the layer.
-    if (!f && !capture.errors().empty()) throw io_error(m_dataset.GetDescription(), m_layer.GetName(), capture.last_error());
+    if (!f && !capture.errors().empty()) {
+        throw io_error(m_dataset.GetDescription(), m_layer.GetName(), capture.last_error());
+    }
+    m_feature_error = capture.errors().empty() ? "" : capture.last_error();
     return f;
 }
 
 std::optional<InputFeature> LayerReader::next()
 {
     OGRFeatureUniquePtr f = next_raw();
-    if (!f) return std::nullopt;
+    if (!f) {
+        return std::nullopt;
+    }
+    if (!m_feature_error.empty() && is_null_or_empty(f->GetGeometryRef())) {
+        return unreadable(std::move(f), m_feature_error);
+    }
     return classify_feature(std::move(f));
 }
 

@@ -9,6 +9,7 @@
 #include <ogrsf_frmts.h>
 
 #include <optional>
+#include <string>
 
 namespace trisnap {
 
@@ -27,11 +28,14 @@ struct InputFeature {
 class LayerReader {
 public:
     LayerReader(GDALDataset& dataset, OGRLayer& layer);
-    /// The next feature, or nullopt at the end. Never throws for bad geometry.
+    /// The next feature, or nullopt at the end. Never throws for bad geometry: a geometry the
+    /// driver failed to read (an error and no geometry) is problem 110, the feature rejected.
     std::optional<InputFeature> next();
     /// The next OGR feature as the driver gives it (no conversion), or null at the end. Throws
     /// io_error when the driver stops on an error.
     OGRFeatureUniquePtr next_raw();
+    /// GDAL's error while reading the feature next_raw() returned last, or "" when there was none.
+    const std::string& feature_error() const { return m_feature_error; }
     /// Features the driver reports, or -1 when counting needs a full read (e.g. OSM).
     std::int64_t count_hint() const { return m_count_hint; }
 
@@ -41,6 +45,7 @@ private:
     OGRLayer& m_layer;
     bool m_interleaved = false;
     std::int64_t m_count_hint = -1;
+    std::string m_feature_error;
 };
 
 /// Converts one OGR feature (takes ownership) into an InputFeature.

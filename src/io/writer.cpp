@@ -1,5 +1,7 @@
 #include "io/writer.hpp"
 
+#include "config/errors.hpp"
+#include "io/checked_files.hpp"
 #include "io/gdal_errors.hpp"
 #include "io/io_error.hpp"
 #include "io/output_driver.hpp"
@@ -8,7 +10,7 @@
 #include <cpl_string.h>
 
 #include <algorithm>
-#include <unistd.h>
+#include <utility>
 
 namespace trisnap {
 namespace fs = std::filesystem;
@@ -17,8 +19,7 @@ namespace {
 bool has_option(const std::vector<std::string>& options, const std::string& key)
 {
     return std::any_of(options.begin(), options.end(), [&](const std::string& o) {
-        return o.size() > key.size() && o[key.size()] == '=' &&
-               EQUALN(o.c_str(), key.c_str(), key.size());
+        return o.size() > key.size() && o[key.size()] == '=' && EQUALN(o.c_str(), key.c_str(), key.size());
     });
 }
 
@@ -28,93 +29,167 @@ bool driver_has_layer_option(GDALDriver& driver, const std::string& key)
     return list && std::string(list).find("name='" + key + "'") != std::string::npos;
 }
 
+/// Adds KEY=VALUE unless the user gave KEY, when the driver knows KEY.
+void add_default(std::vector<std::string>& options, GDALDriver& driver, const std::string& key,
+                 const std::string& value)
+{
+    if (!has_option(options, key) && driver_has_layer_option(driver, key)) {
+        options.push_back(key + "=" + value);
+    }
+}
+
 /// A field name for the original FID that does not clash with an existing field.
 std::string orig_fid_name(const OGRFeatureDefn& defn)
 {
     std::string name = "orig_fid";
-    for (int i = 1; defn.GetFieldIndex(name.c_str()) >= 0; ++i) name = "orig_fid_" + std::to_string(i);
+    for (int i = 1; defn.GetFieldIndex(name.c_str()) >= 0; ++i) {
+        name = "orig_fid_" + std::to_string(i);
+    }
     return name;
 }
 
 struct StringList {
     explicit StringList(const std::vector<std::string>& items)
     {
-        for (const auto& item : items) m_list = CSLAddString(m_list, item.c_str());
+        for (const auto& item : items) {
+            m_list = CSLAddString(m_list, item.c_str());
+        }
     }
     ~StringList() { CSLDestroy(m_list); }
     char** get() const { return m_list; }
     char** m_list = nullptr;
 };
 
+fs::path parent_of(const fs::path& target)
+{
+    return target.has_parent_path() ? target.parent_path() : fs::path(".");
+}
+
+/// Drivers' own temporary files (FlatGeobuf's feature spool, created through CPL_TMPDIR, else
+/// in the current directory) go here, inside our temporary directory: checked like OUT, and
+/// gone with it. Never part of the result.
+constexpr const char* k_scratch = ".scratch";
+
+/// The files of the result: what the driver left in the temporary directory.
+std::vector<fs::path> result_files(const fs::path& directory)
+{
+    std::vector<fs::path> files;
+    for (const auto& entry : fs::directory_iterator(directory)) {
+        if (entry.path().filename() != k_scratch) {
+            files.push_back(entry.path());
+        }
+    }
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+/// Points CPL_TMPDIR (for this thread, while it lives) at the scratch directory.
+class ScratchDirectory {
+public:
+    explicit ScratchDirectory(const fs::path& temp_dir)
+    {
+        const char* previous = CPLGetThreadLocalConfigOption("CPL_TMPDIR", nullptr);
+        m_had_previous = previous != nullptr;
+        m_previous = previous ? previous : "";
+        std::error_code ec;
+        fs::create_directory(temp_dir / k_scratch, ec);
+        CPLSetThreadLocalConfigOption("CPL_TMPDIR", checked_path(temp_dir / k_scratch).c_str());
+    }
+    ~ScratchDirectory()
+    {
+        CPLSetThreadLocalConfigOption("CPL_TMPDIR", m_had_previous ? m_previous.c_str() : nullptr);
+    }
+    ScratchDirectory(const ScratchDirectory&) = delete;
+    ScratchDirectory& operator=(const ScratchDirectory&) = delete;
+
+private:
+    std::string m_previous;
+    bool m_had_previous = false;
+};
+
 } // namespace
 
 LayerWriter::LayerWriter(const WriteOptions& options, OGRLayer& source)
-    : m_options(options), m_target(options.path)
+    : m_options(options), m_target(options.path),
+      // A streamed OUT keeps its scratch files (a driver's spool) beside the current directory.
+      m_temp(is_stdout_path(options.path) ? std::filesystem::path("stdout") : m_target, options.path),
+      m_streamed(is_stdout_path(options.path))
 {
     GDALDriver& driver = output_driver(options.path, options.format);
     m_driver_name = driver.GetDescription();
     m_keeps_fids = driver_keeps_fids(driver) && !options.renumber;
     // GeoPackage stamps the current time into gpkg_contents; a fixed date makes bytes repeatable.
-    if (!CPLGetConfigOption("OGR_CURRENT_DATE", nullptr))
+    if (!CPLGetConfigOption("OGR_CURRENT_DATE", nullptr)) {
         CPLSetConfigOption("OGR_CURRENT_DATE", "2000-01-01T00:00:00.000Z");
+    }
+    // CSV writes the geometry as WKT with 15 significant digits, which can move snapped vertices.
+    if (m_driver_name == "CSV" && !CPLGetConfigOption("OGR_WKT_PRECISION", nullptr)) {
+        CPLSetConfigOption("OGR_WKT_PRECISION", "17");
+    }
+    const ScratchDirectory scratch(m_temp.path());
     create_dataset(driver);
     create_layer(source, layer_options(driver, source));
     create_fields(*source.GetLayerDefn());
-    if (m_dataset->TestCapability(ODsCTransactions))
+    m_fidelity = std::make_unique<FieldFidelity>(*source.GetLayerDefn(), *m_layer->GetLayerDefn(), m_field_map,
+                                                 m_driver_name);
+    m_problems = m_fidelity->renamed_fields();
+    if (m_dataset->TestCapability(ODsCTransactions)) {
         m_in_transaction = m_dataset->StartTransaction() == OGRERR_NONE;
+    }
 }
 
 LayerWriter::~LayerWriter()
 {
-    if (m_committed) return;
+    if (m_committed) {
+        return;
+    }
     ScopedErrorCapture quiet; // closing a half-written dataset may complain; it is deleted anyway
     m_dataset.reset();
-    std::error_code ec;
-    fs::remove_all(m_temp_dir, ec);
+    // m_temp, destroyed after this body, removes the directory with everything in it.
 }
 
 void LayerWriter::create_dataset(GDALDriver& driver)
 {
-    const bool streamed = is_stdout_path(m_options.path); // written as it goes: no temporary, no rename
-    const fs::path parent = m_target.has_parent_path() ? m_target.parent_path() : fs::path(".");
-    std::string name = ".";
-    name.append(m_target.filename().string()).append(".trisnap-tmp-").append(std::to_string(getpid()));
-    m_temp_dir = streamed ? fs::path() : parent / name;
-    std::error_code ec;
-    fs::remove_all(m_temp_dir, ec);
-    if (!streamed && !fs::create_directory(m_temp_dir, ec))
-        throw io_error(m_options.path, "", "cannot create temporary directory " + m_temp_dir.string() + ": " + ec.message());
-    const std::string temp_path = streamed ? stdout_dataset_path(driver) : (m_temp_dir / m_target.filename()).string();
+    // Through the checking file system: drivers that ignore failed writes cannot hide them. A
+    // streamed OUT (stdout) is written as it goes: no temporary, no rename.
+    const std::string temp_path = m_streamed ? stdout_dataset_path(driver) : checked_path(m_temp.path() / m_target.filename());
     const StringList dataset_options(m_options.dataset_options);
     ScopedErrorCapture capture;
     m_dataset.reset(driver.Create(temp_path.c_str(), 0, 0, 0, GDT_Unknown, dataset_options.get()));
-    if (!m_dataset) throw io_error(m_options.path, "", capture.last_error("cannot create the dataset"));
+    if (!m_dataset) {
+        throw io_error(m_options.path, "", capture.last_error("cannot create the dataset"));
+    }
 }
 
 std::vector<std::string> LayerWriter::layer_options(GDALDriver& driver, OGRLayer& source) const
 {
     std::vector<std::string> options = m_options.layer_options;
     const std::string fid_column = source.GetFIDColumn();
-    if (!fid_column.empty() && !has_option(options, "FID") && driver_has_layer_option(driver, "FID"))
-        options.push_back("FID=" + fid_column);
+    if (!fid_column.empty()) {
+        add_default(options, driver, "FID", fid_column);
+    }
     const std::string geometry_column = source.GetGeometryColumn();
-    if (!geometry_column.empty() && !has_option(options, "GEOMETRY_NAME") &&
-        driver_has_layer_option(driver, "GEOMETRY_NAME"))
-        options.push_back("GEOMETRY_NAME=" + geometry_column);
+    if (!geometry_column.empty()) {
+        add_default(options, driver, "GEOMETRY_NAME", geometry_column);
+    }
     // Shapefiles stamp today's date in the .dbf header; a fixed date makes bytes repeatable.
-    if (!has_option(options, "DBF_DATE_LAST_UPDATE") && driver_has_layer_option(driver, "DBF_DATE_LAST_UPDATE"))
-        options.push_back("DBF_DATE_LAST_UPDATE=2000-01-01");
+    add_default(options, driver, "DBF_DATE_LAST_UPDATE", "2000-01-01");
     // GeoJSON defaults to 15 significant digits, which can move snapped vertices; keep them exact.
-    if (!has_option(options, "SIGNIFICANT_FIGURES") && !has_option(options, "COORDINATE_PRECISION") &&
-        driver_has_layer_option(driver, "SIGNIFICANT_FIGURES"))
-        options.push_back("SIGNIFICANT_FIGURES=17");
-    // FlatGeobuf's spatial index sorts features along a Hilbert curve; without it they stay in input order.
-    if (!has_option(options, "SPATIAL_INDEX") && m_driver_name == "FlatGeobuf")
-        options.push_back("SPATIAL_INDEX=NO");
+    if (!has_option(options, "COORDINATE_PRECISION")) {
+        add_default(options, driver, "SIGNIFICANT_FIGURES", "17");
+    }
     // OGR hands us UTF-8; without this the Shapefile driver would recode to ISO-8859-1.
-    if (!has_option(options, "ENCODING") && driver_has_layer_option(driver, "ENCODING") &&
-        m_driver_name == "ESRI Shapefile")
-        options.push_back("ENCODING=UTF-8");
+    if (m_driver_name == "ESRI Shapefile") {
+        add_default(options, driver, "ENCODING", "UTF-8");
+    }
+    // FlatGeobuf's spatial index sorts features along a Hilbert curve; without it they stay in input order.
+    if (m_driver_name == "FlatGeobuf") {
+        add_default(options, driver, "SPATIAL_INDEX", "NO");
+    }
+    // CSV drops geometries unless told where to put them: as WKT in a column, like ogr2ogr -lco.
+    if (m_driver_name == "CSV") {
+        add_default(options, driver, "GEOMETRY", "AS_WKT");
+    }
     return options;
 }
 
@@ -124,7 +199,13 @@ void LayerWriter::create_layer(OGRLayer& source, const std::vector<std::string>&
     const StringList list(options);
     ScopedErrorCapture capture;
     m_layer = m_dataset->CreateLayer(name.c_str(), source.GetSpatialRef(), source.GetGeomType(), list.get());
-    if (!m_layer) throw io_error(m_options.path, name, capture.last_error("cannot create the layer"));
+    if (!m_layer) {
+        throw io_error(m_options.path, name, capture.last_error("cannot create the layer"));
+    }
+    if (m_layer->GetLayerDefn()->GetGeomFieldCount() == 0) {
+        throw argument_error(m_options.path + ": the " + m_driver_name +
+                             " format cannot store the geometries; choose another format (e.g. -f GPKG)");
+    }
 }
 
 void LayerWriter::create_fields(const OGRFeatureDefn& source)
@@ -137,57 +218,115 @@ void LayerWriter::create_fields(const OGRFeatureDefn& source)
             m_field_map.push_back(-1);
             continue;
         }
-        if (m_layer->CreateField(&field, TRUE) != OGRERR_NONE)
+        if (m_layer->CreateField(&field, TRUE) != OGRERR_NONE) {
             throw io_error(m_options.path, m_layer->GetName(),
                            "cannot create field '" + std::string(field.GetNameRef()) + "': " + capture.last_error());
+        }
         m_field_map.push_back(m_layer->GetLayerDefn()->GetFieldCount() - 1);
     }
-    if (m_keeps_fids) return;
+    if (m_keeps_fids) {
+        return;
+    }
     OGRFieldDefn orig(orig_fid_name(source).c_str(), OFTInteger64);
-    if (m_layer->CreateField(&orig) != OGRERR_NONE)
+    if (m_layer->CreateField(&orig) != OGRERR_NONE) {
         throw io_error(m_options.path, m_layer->GetName(), "cannot create field orig_fid: " + capture.last_error());
+    }
     m_orig_fid_field = m_layer->GetLayerDefn()->GetFieldCount() - 1;
+}
+
+void LayerWriter::throw_if_write_failed() const
+{
+    const std::string failure = take_write_failure(m_temp.path());
+    if (!failure.empty()) {
+        throw io_error(m_options.path, "", "cannot write (" + failure + "); nothing was left at OUT");
+    }
+}
+
+void LayerWriter::fail_finishing(const std::string& gdal_message) const
+{
+    throw_if_write_failed(); // the cause (a full disk) says more than the driver's complaint about it
+    throw io_error(m_options.path, "", gdal_message + "; nothing was left at OUT");
 }
 
 std::string LayerWriter::write(const OGRFeature& source, std::int64_t fid, OGRGeometry* geometry)
 {
+    ScopedErrorCapture capture;
     OGRFeatureUniquePtr out(OGRFeature::CreateFeature(m_layer->GetLayerDefn()));
     out->SetFieldsFrom(&source, m_field_map.data(), TRUE);
-    if (m_orig_fid_field >= 0) out->SetField(m_orig_fid_field, static_cast<GIntBig>(fid));
-    if (m_keeps_fids) out->SetFID(fid);
+    if (m_orig_fid_field >= 0) {
+        out->SetField(m_orig_fid_field, static_cast<GIntBig>(fid));
+    }
+    if (m_keeps_fids) {
+        out->SetFID(fid);
+    }
     out->SetGeometryDirectly(geometry);
-    ScopedErrorCapture capture;
-    if (m_layer->CreateFeature(out.get()) != OGRERR_NONE)
+    const bool refused = m_layer->CreateFeature(out.get()) != OGRERR_NONE;
+    throw_if_write_failed();
+    if (refused) {
         return capture.last_error("the driver refused the feature");
+    }
+    m_fidelity->check(source, *out, fid, m_problems);
     ++m_written;
     return "";
 }
 
-void LayerWriter::commit()
+std::vector<Problem> LayerWriter::take_problems()
 {
-    ScopedErrorCapture capture;
-    if (m_in_transaction && m_dataset->CommitTransaction() != OGRERR_NONE)
-        throw io_error(m_options.path, "", capture.last_error("cannot commit the transaction"));
-    m_dataset.reset(); // GDALClose: some drivers (FlatGeobuf) write everything here
-    if (!capture.errors().empty()) throw io_error(m_options.path, "", capture.last_error());
-    if (!m_temp_dir.empty()) move_into_place();
-    m_committed = true;
+    return std::exchange(m_problems, {});
 }
 
-void LayerWriter::move_into_place()
+void LayerWriter::finish()
 {
-    std::vector<fs::path> files;
-    for (const auto& entry : fs::directory_iterator(m_temp_dir)) files.push_back(entry.path());
-    std::sort(files.begin(), files.end());
-    const fs::path parent = m_target.has_parent_path() ? m_target.parent_path() : fs::path(".");
-    // Multi-file formats (Shapefile): remove every old component, not just the main file.
-    if (files.size() > 1 && fs::exists(m_target)) GDALDriver::QuietDelete(m_target.string().c_str());
-    std::error_code ec;
-    for (const fs::path& file : files) {
-        fs::rename(file, parent / file.filename(), ec);
-        if (ec) throw io_error(m_options.path, "", "cannot move the result into place: " + ec.message());
+    const ScratchDirectory scratch(m_temp.path());
+    CPLErrorReset();
+    ScopedErrorCapture capture;
+    if (m_in_transaction && m_dataset->CommitTransaction() != OGRERR_NONE) {
+        fail_finishing(capture.last_error("cannot commit the transaction"));
     }
-    fs::remove_all(m_temp_dir, ec);
+    m_in_transaction = false;
+    m_dataset.reset(); // GDALClose: some drivers (FlatGeobuf) write everything here
+    if (!capture.errors().empty() || CPLGetLastErrorType() >= CE_Failure) {
+        fail_finishing(capture.last_error(CPLGetLastErrorMsg()));
+    }
+    throw_if_write_failed();
+    if (m_streamed) {
+        return;
+    }
+    if (result_files(m_temp.path()).empty()) {
+        throw argument_error(m_options.path + ": the " + m_driver_name + " driver wrote no file; choose a file format");
+    }
+    sync_tree(m_temp.path(), m_options.path);
+}
+
+void LayerWriter::stage_files(CommitGroup& group)
+{
+    const std::vector<fs::path> files = result_files(m_temp.path());
+    // Multi-file formats (Shapefile): remove every old component, not just the main file.
+    if (files.size() > 1 && m_options.overwrite && fs::exists(m_target)) {
+        group.replace_dataset(m_target);
+    }
+    for (const fs::path& file : files) {
+        group.stage(file, parent_of(m_target) / file.filename(), m_options.overwrite, "OUT");
+    }
+    group.protect(m_options.protected_files);
+    group.own_directory(m_temp.release());
+}
+
+void LayerWriter::commit()
+{
+    finish();
+    if (m_streamed) {
+        m_committed = true;
+        return;
+    }
+    if (m_options.commit_group != nullptr) {
+        stage_files(*m_options.commit_group);
+    } else {
+        CommitGroup group;
+        stage_files(group);
+        group.commit();
+    }
+    m_committed = true;
 }
 
 } // namespace trisnap

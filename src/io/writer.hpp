@@ -1,13 +1,23 @@
 #pragma once
 // Writes the snapped layer like ogr2ogr would: same layer name (unless renamed), fields, field
 // types and values, CRS and FIDs (or an `orig_fid` field where the format renumbers features).
-// Everything goes to a temporary directory beside the target and is renamed into place by
-// commit(), so an interrupted run never leaves a half-written file at the target path.
+// Everything goes to a temporary directory beside the target (".OUT.trisnap-tmp-PID", created
+// before anything else and removed on any failure, also when the constructor throws), every
+// write and the final close are checked (checked_files.hpp), the files are flushed to disk, and
+// only then renamed into place by commit(): a failed or interrupted run, or a full disk, never
+// leaves anything at the target path.
+#include "core/problems.hpp"
+#include "io/commit_group.hpp"
+#include "io/field_fidelity.hpp"
+#include "io/file_safety.hpp"
+#include "io/temp_files.hpp"
+
 #include <gdal_priv.h>
 #include <ogrsf_frmts.h>
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -22,30 +32,52 @@ struct WriteOptions {
     std::vector<std::string> fields;        ///< --select: the source fields to write; empty = all
     bool overwrite = false;
     bool renumber = false; ///< input FIDs unusable (duplicate or missing): always add orig_fid
+    ProtectedFiles protected_files; ///< never replaced (the input's files); checked again at the rename
+    /// When set, commit() stages OUT's files in this group instead of renaming them, and the
+    /// group's owner renames them together with the report (see commit_group.hpp).
+    CommitGroup* commit_group = nullptr;
 };
 
 /// The driver for `path` (format empty: from the extension, like ogr2ogr). Throws
-/// argument_error when the format is unknown or cannot create vector datasets.
+/// argument_error when the format is unknown, cannot create vector datasets or writes no file
+/// (Memory, databases, web services: drivers without GDAL's virtual I/O).
 GDALDriver& output_driver(const std::string& path, const std::string& format);
 
 /// Refuses an existing target without overwrite and a missing parent directory.
 void check_output_path(const WriteOptions& options, const std::string& input_path);
+
+/// Refuses an OUT for which `driver` would write any of `options.protected_files` (OUT itself
+/// or a companion file such as a Shapefile's .dbf). Throws argument_error naming both.
+void check_output_files(const WriteOptions& options, GDALDriver& driver);
 
 /// True when the driver stores the FIDs we set (else the writer adds `orig_fid`).
 bool driver_keeps_fids(GDALDriver& driver);
 
 class LayerWriter {
 public:
+    /// Creates the output dataset, layer and fields in the temporary directory: construct it
+    /// before the long work so a layer or field the format refuses fails the run at once. Throws
+    /// argument_error (format cannot hold the layer's geometry), io_error (creation failed); the
+    /// temporary directory is gone either way. Removes stale ".OUT.trisnap-tmp-PID" directories
+    /// of processes that no longer exist.
     LayerWriter(const WriteOptions& options, OGRLayer& source);
     ~LayerWriter(); ///< removes the temporary directory unless commit() succeeded
     LayerWriter(const LayerWriter&) = delete;
     LayerWriter& operator=(const LayerWriter&) = delete;
 
     /// Writes the attributes of `source` (by field index) with `geometry` (ownership taken,
-    /// may be null). Returns "" on success, else the driver's message (problem 902).
+    /// may be null). Returns "" on success, else the driver's message (problem 902). Throws
+    /// io_error when a write to disk failed (full disk, file size limit): the run cannot go on.
     std::string write(const OGRFeature& source, std::int64_t fid, OGRGeometry* geometry);
-    /// Finishes the dataset and renames it into place. Throws io_error.
+    /// Closes the dataset, checks every write and the close, flushes the files to disk and
+    /// renames them into place (or stages them in options.commit_group). Throws io_error, and
+    /// argument_error when OUT appeared meanwhile without --overwrite.
     void commit();
+
+    /// Problems 903 (values the format changed) and 904 (renamed fields) found so far.
+    std::vector<Problem> take_problems();
+    /// One line per field and kind of change, for a warning on stderr.
+    std::vector<std::string> warnings() const { return m_fidelity->summary(); }
 
     bool keeps_fids() const { return m_keeps_fids; }
     const std::string& driver_name() const { return m_driver_name; }
@@ -56,15 +88,21 @@ private:
     void create_layer(OGRLayer& source, const std::vector<std::string>& options);
     void create_fields(const OGRFeatureDefn& source);
     std::vector<std::string> layer_options(GDALDriver& driver, OGRLayer& source) const;
-    void move_into_place();
+    void throw_if_write_failed() const;
+    [[noreturn]] void fail_finishing(const std::string& gdal_message) const;
+    void finish();
+    void stage_files(CommitGroup& group);
 
     WriteOptions m_options;
     std::filesystem::path m_target;
-    std::filesystem::path m_temp_dir;
-    GDALDatasetUniquePtr m_dataset;
+    TempDirectory m_temp;           ///< first: exists before, and is removed after, everything below
+    bool m_streamed = false;        ///< OUT is stdout: written as it goes, no temporary or rename
+    GDALDatasetUniquePtr m_dataset; ///< closed before m_temp is removed
     OGRLayer* m_layer = nullptr;
     std::string m_driver_name;
     std::vector<int> m_field_map;
+    std::unique_ptr<FieldFidelity> m_fidelity;
+    std::vector<Problem> m_problems;
     int m_orig_fid_field = -1;
     bool m_keeps_fids = false;
     bool m_in_transaction = false;

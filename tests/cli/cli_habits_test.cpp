@@ -89,7 +89,7 @@ TEST_F(CliHabits, ValidateFailsWhereSnapWouldBeforeSnapping)
                                                 dir.path("p.txt")}), 2, "give a .gpkg or .geojson file name");
     }
     expect_error(run_trisnap(dir, {"snap", in, dir.path("o.gpkg"), "--tolerance", "1", "--problems-layer",
-                                   dir.path("o.gpkg")}), 2, "OUT and --problems-layer are the same file");
+                                   dir.path("o.gpkg")}), 2, "--problems-layer " + dir.path("o.gpkg") + ": is a file of OUT");
     expect_error(run_trisnap(dir, {"validate", in, dir.path("o.gpkg"), "--tolerance", "1", "--report", dir.path("r.json"),
                                    "--problems-layer", dir.path("./r.json")}), 2, "--report and --problems-layer are the same file");
     EXPECT_FALSE(exists(dir.path("o.gpx")));

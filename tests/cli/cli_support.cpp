@@ -3,13 +3,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <csignal>
 #include <cstdlib>
+#include <fcntl.h>
 #include <fstream>
 #include <limits>
 #include <memory>
 #include <set>
 #include <sstream>
 #include <csignal>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -80,9 +83,98 @@ TempDir::~TempDir()
     fs::remove_all(m_path, ec);
 }
 
+namespace {
+
+std::string trisnap_exe()
+{
+    const char* other = std::getenv("TRISNAP_TEST_EXE");
+    return other != nullptr && *other != '\0' ? other : TRISNAP_EXE;
+}
+
+/// In the child: limits, SIGXFSZ ignored (a write past the limit fails with EFBIG instead of
+/// killing the process, as on a full disk), stdout and stderr to files, then exec.
+[[noreturn]] void exec_limited(const std::vector<std::string>& argv, const Limits& limits, const std::string& out,
+                               const std::string& err)
+{
+    std::signal(SIGXFSZ, SIG_IGN);
+    const int out_fd = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int err_fd = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int in_fd = ::open("/dev/null", O_RDONLY);
+    ::dup2(out_fd, 1);
+    ::dup2(err_fd, 2);
+    ::dup2(in_fd, 0);
+    if (limits.file_size > 0) {
+        const rlimit limit{static_cast<rlim_t>(limits.file_size), static_cast<rlim_t>(limits.file_size)};
+        ::setrlimit(RLIMIT_FSIZE, &limit);
+    }
+    if (limits.address_space > 0) {
+        const rlimit limit{static_cast<rlim_t>(limits.address_space), static_cast<rlim_t>(limits.address_space)};
+        ::setrlimit(RLIMIT_AS, &limit);
+    }
+    std::vector<char*> pointers;
+    for (const std::string& a : argv) {
+        pointers.push_back(const_cast<char*>(a.c_str()));
+    }
+    pointers.push_back(nullptr);
+    ::execv(pointers[0], pointers.data());
+    ::_exit(127);
+}
+
+} // namespace
+
+pid_t spawn_trisnap(const TempDir& dir, const std::vector<std::string>& args, const Limits& limits)
+{
+    std::vector<std::string> argv{trisnap_exe()};
+    argv.insert(argv.end(), args.begin(), args.end());
+    const std::string out = dir.path("stdout.txt");
+    const std::string err = dir.path("stderr.txt");
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        exec_limited(argv, limits, out, err);
+    }
+    return pid;
+}
+
+RunOutput wait_trisnap(const TempDir& dir, pid_t pid)
+{
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    RunOutput result;
+    result.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    result.out = file_bytes(dir.path("stdout.txt"));
+    result.err = file_bytes(dir.path("stderr.txt"));
+    return result;
+}
+
+RunOutput run_trisnap_limited(const TempDir& dir, const std::vector<std::string>& args, const Limits& limits)
+{
+    return wait_trisnap(dir, spawn_trisnap(dir, args, limits));
+}
+
+void expect_error(const RunOutput& r, int code, const std::string& text)
+{
+    EXPECT_EQ(r.code, code) << r.err;
+    EXPECT_EQ(r.out, "");
+    ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
+    EXPECT_NE(r.err.find("trisnap: error: "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(text), std::string::npos) << r.err;
+}
+
+std::vector<std::string> leftovers(const std::string& dir)
+{
+    std::vector<std::string> names;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+        const std::string name = entry.path().filename().string();
+        if (name.find(".trisnap-tmp") != std::string::npos) {
+            names.push_back(name);
+        }
+    }
+    return names;
+}
+
 RunOutput run_trisnap(const TempDir& dir, const std::vector<std::string>& args)
 {
-    std::string command = quote(TRISNAP_EXE);
+    std::string command = quote(trisnap_exe());
     for (const auto& a : args) command += " " + quote(a);
     const std::string out = dir.path("stdout.txt");
     const std::string err = dir.path("stderr.txt");
@@ -172,15 +264,6 @@ std::string write_snapping_gpkg(const TempDir& dir, const std::string& name)
     const std::string path = dir.path(name);
     write_fixture(path, "GPKG", "parcels", 3857, wkbUnknown, snapping_fixture());
     return path;
-}
-
-void expect_error(const RunOutput& r, int code, const std::string& text)
-{
-    EXPECT_EQ(r.code, code) << r.err;
-    EXPECT_EQ(r.out, "");
-    ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
-    EXPECT_NE(r.err.find("trisnap: error: "), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find(text), std::string::npos) << r.err;
 }
 
 std::vector<FixtureFeature> snapping_fixture()

@@ -11,6 +11,7 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <sys/types.h>
 #include <vector>
 
 namespace trisnap::test {
@@ -34,13 +35,29 @@ private:
     std::filesystem::path m_path;
 };
 
-/// Runs the trisnap binary with `args`; stdout and stderr go through files in `dir`.
+/// Runs the trisnap binary with `args`; stdout and stderr go through files in `dir`. The
+/// environment variable TRISNAP_TEST_EXE replaces the binary (to see a test fail on an older one).
 RunOutput run_trisnap(const TempDir& dir, const std::vector<std::string>& args);
 
 /// Runs the trisnap binary with `args` and kills it (SIGKILL) at the first line it writes on
 /// stderr for which `stop(line)` holds. `code` is 137 when it was killed.
 RunOutput run_trisnap_killed_when(const TempDir& dir, const std::vector<std::string>& args,
                                   const std::function<bool(const std::string&)>& stop);
+/// Resource limits for one run (0 = unlimited).
+struct Limits {
+    long long file_size = 0;     ///< RLIMIT_FSIZE in bytes: "disk full" (SIGXFSZ ignored, writes fail)
+    long long address_space = 0; ///< RLIMIT_AS in bytes: allocations fail
+};
+
+/// run_trisnap() in a child process with `limits` set (fork, setrlimit, exec: no shell).
+RunOutput run_trisnap_limited(const TempDir& dir, const std::vector<std::string>& args, const Limits& limits);
+
+/// Starts trisnap without waiting (stdout and stderr to files in `dir`); finish with wait_trisnap().
+pid_t spawn_trisnap(const TempDir& dir, const std::vector<std::string>& args, const Limits& limits = {});
+RunOutput wait_trisnap(const TempDir& dir, pid_t pid);
+
+/// Names in `dir` that contain ".trisnap-tmp" (temporary files or directories left behind).
+std::vector<std::string> leftovers(const std::string& dir);
 
 std::string data_dir();
 std::string configs_dir();

@@ -1,0 +1,56 @@
+#include "app/exit_status.hpp"
+
+#include "config/errors.hpp"
+
+#include <new>
+
+namespace trisnap {
+namespace {
+
+constexpr const char* k_memory_hint = "out of memory; try a smaller --bbox, smaller tiles or a machine with more memory";
+
+/// The text of `e` and of every exception nested inside it, outermost first.
+std::string full_message(const std::exception& e)
+{
+    std::string text = e.what();
+    try {
+        std::rethrow_if_nested(e);
+    } catch (const std::exception& inner) {
+        text += ": " + full_message(inner);
+    } catch (...) {
+        text += ": unknown error";
+    }
+    return text;
+}
+
+} // namespace
+
+bool is_out_of_memory(const std::exception& e)
+{
+    if (dynamic_cast<const std::bad_alloc*>(&e) != nullptr) {
+        return true;
+    }
+    try {
+        std::rethrow_if_nested(e);
+    } catch (const std::exception& inner) {
+        return is_out_of_memory(inner);
+    } catch (...) {
+        return false;
+    }
+    return false;
+}
+
+ExitStatus exit_status(const std::exception& e)
+{
+    if (dynamic_cast<const std::bad_alloc*>(&e) != nullptr) {
+        return {1, k_memory_hint};
+    }
+    if (is_out_of_memory(e)) {
+        return {1, std::string(k_memory_hint) + " (" + e.what() + ")"};
+    }
+    const bool usage = dynamic_cast<const argument_error*>(&e) != nullptr ||
+                       dynamic_cast<const config_error*>(&e) != nullptr;
+    return {usage ? 2 : 1, full_message(e)};
+}
+
+} // namespace trisnap

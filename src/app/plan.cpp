@@ -4,12 +4,12 @@
 #include "io/dataset.hpp"
 #include "io/gdal_errors.hpp"
 #include "io/layer_info.hpp"
+#include "io/tolerance.hpp"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <cmath>
-#include <numbers>
 #include <ostream>
 
 namespace trisnap {
@@ -33,35 +33,9 @@ void apply_filters(const SnapArgs& args, OGRLayer& layer)
     }
 }
 
-/// Latitude at the middle of the layer's extent, honouring the data axis order.
-double mean_latitude(OGRLayer& layer, const OGRSpatialReference& srs)
-{
-    OGREnvelope e;
-    if (layer.GetExtent(&e, TRUE) != OGRERR_NONE)
-        throw argument_error("--tolerance-m: the layer has no extent to take a latitude from");
-    const auto& mapping = srs.GetDataAxisToSRSAxisMapping();
-    const bool lat_is_x = srs.EPSGTreatsAsLatLong() && !mapping.empty() && mapping[0] == 1;
-    return lat_is_x ? (e.MinX + e.MaxX) / 2 : (e.MinY + e.MaxY) / 2;
-}
-
-double from_metres(double metres, OGRLayer& layer, std::string& note)
-{
-    const OGRSpatialReference* srs = layer.GetSpatialRef();
-    if (!srs) throw argument_error("--tolerance-m needs a layer with a CRS; give --tolerance in layer units");
-    if (!srs->IsGeographic()) {
-        const double unit = srs->GetLinearUnits();
-        note = fmt::format("{} m = {} layer units ({} m each)", metres, metres / unit, unit);
-        return metres / unit;
-    }
-    const double lat = mean_latitude(layer, *srs);
-    const double degrees = metres / metres_per_degree(lat);
-    note = fmt::format("{} m = {:.3g} degrees at mean latitude {:.4f}", metres, degrees, lat);
-    return degrees;
-}
-
 double resolve_tolerance(const Config& config, OGRLayer& layer, std::string& note)
 {
-    if (config.snap.tolerance_m) return from_metres(*config.snap.tolerance_m, layer, note);
+    if (config.snap.tolerance_m) return tolerance_from_metres(*config.snap.tolerance_m, layer, note);
     if (!config.snap.tolerance)
         throw argument_error("no tolerance: give --tolerance T (layer units) or --tolerance-m M");
     const double t = *config.snap.tolerance;
@@ -103,12 +77,6 @@ WriteOptions write_options(const SnapArgs& args)
 }
 
 } // namespace
-
-double metres_per_degree(double lat)
-{
-    const double k_equator = 6378137.0 * std::numbers::pi / 180.0;
-    return k_equator * std::max(std::cos(lat * std::numbers::pi / 180.0), 1e-3);
-}
 
 Plan make_plan(const SnapArgs& args, const Config& config)
 {

@@ -111,4 +111,15 @@ std::optional<InputFeature> LayerReader::next()
     return classify_feature(std::move(f));
 }
 
+OGRFeatureUniquePtr LayerReader::next_raw()
+{
+    ScopedErrorCapture capture;
+    OGRFeatureUniquePtr f = next_ogr_feature();
+    if (capture.errors().empty()) {
+        return f;
+    }
+    const std::string where = f ? "feature FID " + std::to_string(f->GetFID()) + ": " : "";
+    throw io_error(m_dataset.GetDescription(), m_layer.GetName(), where + capture.last_error());
+}
+
 } // namespace trisnap

@@ -29,6 +29,10 @@ public:
     LayerReader(GDALDataset& dataset, OGRLayer& layer);
     /// The next feature, or nullopt at the end. Never throws for bad geometry.
     std::optional<InputFeature> next();
+    /// The next feature as the driver gives it, geometry included, or null at the end: for the
+    /// tools that measure geometry themselves (assess, render). Throws io_error naming the FID
+    /// when GDAL reports an error while reading it (a corrupt file is not read as data).
+    OGRFeatureUniquePtr next_raw();
     /// Features the driver reports, or -1 when counting needs a full read (e.g. OSM).
     std::int64_t count_hint() const { return m_count_hint; }
 

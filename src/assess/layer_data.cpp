@@ -2,6 +2,8 @@
 // per-feature helpers the measures share.
 #include "assess/layer_data.hpp"
 
+#include "io/reader.hpp"
+
 #include <ogrsf_frmts.h>
 
 #include <fmt/format.h>
@@ -12,13 +14,20 @@
 namespace trisnap::assess {
 namespace {
 
+bool measurable(double v) { return std::fabs(v) <= k_max_coordinate; } // false for NaN too
+
 void add_curve(LayerData& data, Feature& f, const OGRSimpleCurve& curve, PartType type)
 {
     const int n = curve.getNumPoints();
-    if (n == 0) return;
+    if (n == 0) {
+        return;
+    }
     Part part{static_cast<std::uint32_t>(data.pts.size()), 0, type};
     for (int i = 0; i < n; ++i) {
         const Pt p{curve.getX(i), curve.getY(i)};
+        if (!measurable(p.x) || !measurable(p.y)) {
+            f.kind = FeatureKind::unmeasurable;
+        }
         data.pts.push_back(p);
         f.box.add(p);
     }
@@ -35,8 +44,12 @@ void add_geometry(LayerData& data, Feature& f, const OGRGeometry& g)
         if (linear) add_geometry(data, f, *linear);
     } else if (type == wkbPolygon || type == wkbTriangle) {
         const auto& polygon = *g.toPolygon();
-        if (polygon.IsEmpty()) return;
-        f.kind = FeatureKind::polygon;
+        if (polygon.IsEmpty()) {
+            return;
+        }
+        if (f.kind != FeatureKind::unmeasurable) {
+            f.kind = FeatureKind::polygon;
+        }
         add_curve(data, f, *polygon.getExteriorRing(), PartType::shell);
         for (int i = 0; i < polygon.getNumInteriorRings(); ++i)
             add_curve(data, f, *polygon.getInteriorRing(i), PartType::hole);
@@ -65,9 +78,28 @@ std::string field_text(const OGRFeature& feature, int index)
     }
 }
 
+/// One feature's geometry into `data`; an unmeasurable feature keeps no points or parts.
+void add_feature_geometry(LayerData& data, Feature& f, const OGRGeometry* g)
+{
+    const std::size_t first_point = data.pts.size();
+    f.part_begin = static_cast<std::uint32_t>(data.parts.size());
+    if (g) {
+        add_geometry(data, f, *g);
+    }
+    if (f.kind == FeatureKind::unmeasurable) {
+        data.pts.resize(first_point);
+        data.parts.resize(f.part_begin);
+        f.box = Box{};
+    } else if (data.parts.size() == f.part_begin) {
+        f.kind = FeatureKind::empty;
+    }
+    f.part_end = static_cast<std::uint32_t>(data.parts.size());
+}
+
 } // namespace
 
-LayerData read_layer(OGRLayer& layer, const std::string& key_field, const std::vector<std::string>& fields)
+LayerData read_layer(GDALDataset& dataset, OGRLayer& layer, const std::string& key_field,
+                     const std::vector<std::string>& fields)
 {
     LayerData data;
     data.name = layer.GetName();
@@ -75,17 +107,18 @@ LayerData read_layer(OGRLayer& layer, const std::string& key_field, const std::v
     OGRFeatureDefn* defn = layer.GetLayerDefn();
     const int key_index = key_field.empty() ? -1 : defn->GetFieldIndex(key_field.c_str());
     std::vector<int> indexes;
-    for (const std::string& name : fields) indexes.push_back(defn->GetFieldIndex(name.c_str()));
-    layer.ResetReading();
-    for (OGRFeatureUniquePtr in{layer.GetNextFeature()}; in; in.reset(layer.GetNextFeature())) {
+    for (const std::string& name : fields) {
+        indexes.push_back(defn->GetFieldIndex(name.c_str()));
+    }
+    LayerReader reader(dataset, layer);
+    for (OGRFeatureUniquePtr in = reader.next_raw(); in; in = reader.next_raw()) {
         Feature f;
         f.fid = in->GetFID();
         f.key = key_index >= 0 ? field_text(*in, key_index) : std::to_string(f.fid);
-        f.part_begin = static_cast<std::uint32_t>(data.parts.size());
-        if (const OGRGeometry* g = in->GetGeometryRef()) add_geometry(data, f, *g);
-        f.part_end = static_cast<std::uint32_t>(data.parts.size());
-        if (f.part_begin == f.part_end) f.kind = FeatureKind::empty;
-        for (int index : indexes) f.values.push_back(field_text(*in, index));
+        add_feature_geometry(data, f, in->GetGeometryRef());
+        for (int index : indexes) {
+            f.values.push_back(field_text(*in, index));
+        }
         data.features.push_back(std::move(f));
     }
     return data;
@@ -101,6 +134,17 @@ std::size_t LayerData::segment_count(const Feature& f) const
 Pt LayerData::anchor(const Feature& f) const
 {
     return f.part_begin < f.part_end ? pts[parts[f.part_begin].begin] : Pt{};
+}
+
+double LayerData::length(const Feature& f) const
+{
+    double total = 0;
+    for (std::uint32_t i = f.part_begin; i < f.part_end; ++i) {
+        for (std::uint32_t k = parts[i].begin; k + 1 < parts[i].end; ++k) {
+            total += distance(pts[k], pts[k + 1]);
+        }
+    }
+    return total;
 }
 
 double LayerData::area(const Feature& f) const

@@ -16,11 +16,14 @@ bool segment_less(const Segment& x, const Segment& y)
     return x.feature < y.feature;
 }
 
-std::vector<Segment> all_segments(const LayerData& d)
+std::vector<Segment> all_segments(const LayerData& d, const std::vector<std::uint8_t>* keep)
 {
     std::vector<Segment> s;
-    s.reserve(d.pts.size());
+    s.reserve(keep ? 0 : d.pts.size());
     for (std::uint32_t f = 0; f < d.features.size(); ++f) {
+        if (keep && !(*keep)[f]) {
+            continue;
+        }
         for (std::uint32_t i = d.features[f].part_begin; i < d.features[f].part_end; ++i) {
             for (std::uint32_t k = d.parts[i].begin; k + 1 < d.parts[i].end; ++k) {
                 const Pt p = d.pts[k];
@@ -55,9 +58,9 @@ std::vector<Owned> distinct_vertices(const LayerData& d)
     return v;
 }
 
-DistinctSegments distinct_segments(const LayerData& d)
+DistinctSegments distinct_segments(const LayerData& d, const std::vector<std::uint8_t>* keep)
 {
-    const std::vector<Segment> all = all_segments(d);
+    const std::vector<Segment> all = all_segments(d, keep);
     DistinctSegments out;
     out.owners.reserve(all.size());
     for (const Segment& s : all) {

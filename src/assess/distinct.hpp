@@ -32,7 +32,8 @@ struct DistinctSegments {
 };
 
 std::vector<Owned> distinct_vertices(const LayerData& d);
-DistinctSegments distinct_segments(const LayerData& d);
+/// The distinct segments of the features of `d` (of those with keep[f] != 0 when given).
+DistinctSegments distinct_segments(const LayerData& d, const std::vector<std::uint8_t>* keep = nullptr);
 
 using Examples = tbb::combinable<std::vector<AssessExample>>;
 

@@ -27,9 +27,11 @@ struct Context {
 /// Matches features and fills missing (with excuses), extra and attribute mismatches.
 Matching measure_matching(const LayerData& a, const LayerData& b, const Excuses& excuses, AssessReport& report,
                           std::size_t k);
-/// Returns, per feature of `d`, 1 when it is an invalid polygon (GDAL's IsValid); fills the
-/// report's invalid list when `report` is given (the output), else only answers (the input).
-std::vector<std::uint8_t> invalid_polygons(const LayerData& d, AssessReport* report, std::size_t k);
+/// Returns, per feature of `d`, 1 when it is an invalid polygon (GDAL's IsValid), checking only
+/// the features in `only` (every one when null); fills the report's invalid list when `report`
+/// is given (the output), else only answers (the input).
+std::vector<std::uint8_t> invalid_polygons(const LayerData& d, const std::vector<std::uint32_t>* only, AssessReport* report,
+                                           std::size_t k);
 /// Areas, empty and unmeasurable outputs, and invalid polygons of the output.
 std::vector<std::uint8_t> measure_validity(const Context& c, AssessReport& report);
 void measure_separations(const Context& c, AssessReport& report);

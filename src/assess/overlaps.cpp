@@ -2,8 +2,8 @@
 // features with identical geometry (stacked copies: 10,000 copies of one square make 5·10^7
 // overlapping pairs) form one group, measured once; a pair of groups stands for every pair of
 // their members. Which pairs are new is counted from the other side: the input pairs that
-// overlap (found like the input's shared boundaries, by candidate pairs of the input) whose
-// outputs overlap too are the known ones; the rest are new.
+// overlap (candidate pairs among the inputs of overlapping outputs only, so a clean coverage
+// costs nothing here) whose outputs overlap too are the known ones; the rest are new.
 #include "assess/measures.hpp"
 #include "assess/overlap_test.hpp"
 #include "assess/polygon_pairs.hpp"
@@ -133,13 +133,35 @@ std::int64_t pair_count(const Groups& groups, const Relation& rel)
 
 std::pair<std::uint32_t, std::uint32_t> ordered(std::uint32_t u, std::uint32_t v) { return {std::min(u, v), std::max(u, v)}; }
 
-/// Pairs of input polygon features whose interiors meet.
-FeaturePairs input_overlaps(const LayerData& a)
+/// The input features whose outputs overlap something: only their pairs can be known overlaps.
+std::vector<std::uint32_t> inputs_of_overlaps(const Context& c, const Groups& groups, const std::vector<Relation>& rels)
 {
-    const std::vector<std::uint8_t> invalid = invalid_polygons(a, nullptr, 0);
+    std::vector<std::uint8_t> involved(groups.members.size(), 0);
+    for (const Relation& rel : rels) {
+        involved[rel.g] = 1;
+        involved[rel.h] = 1;
+    }
+    std::vector<std::uint32_t> inputs;
+    for (std::uint32_t i = 0; i < c.match.size(); ++i) {
+        const std::int64_t o = c.match[i];
+        const std::uint32_t g = o < 0 ? k_none : groups.group_of[static_cast<std::size_t>(o)];
+        if (g != k_none && involved[g]) {
+            inputs.push_back(i);
+        }
+    }
+    return inputs;
+}
+
+/// Pairs of the input polygon features `candidates` whose interiors meet.
+FeaturePairs input_overlaps(const LayerData& a, const std::vector<std::uint32_t>& candidates)
+{
+    if (candidates.empty()) {
+        return {};
+    }
+    const std::vector<std::uint8_t> invalid = invalid_polygons(a, &candidates, nullptr, 0);
     const std::vector<std::int8_t> interior_left = interior_left_of_parts(a);
     tbb::combinable<FeaturePairs> found;
-    for_candidate_pairs(index_polygons(a), true, [&](std::uint32_t i, std::uint32_t j) {
+    for_candidate_pairs(index_polygons(a, candidates), true, [&](std::uint32_t i, std::uint32_t j) {
         if (interiors_overlap(a, interior_left, invalid, i, j)) {
             found.local().push_back(ordered(i, j));
         }
@@ -201,7 +223,7 @@ void measure_overlaps(const Context& c, const std::vector<std::uint8_t>& invalid
 {
     const Groups groups = group_identical(c.b);
     const std::vector<Relation> rels = group_overlaps(c.b, groups, interior_left_of_parts(c.b), invalid);
-    const FeaturePairs input = input_overlaps(c.a);
+    const FeaturePairs input = input_overlaps(c.a, inputs_of_overlaps(c, groups, rels));
     std::vector<AssessExample> examples;
     for (const Relation& rel : rels) {
         const std::int64_t n = pair_count(groups, rel);

@@ -48,12 +48,15 @@ bool check_valid(const LayerData& d, const Feature& f, AssessExample& example)
 
 } // namespace
 
-std::vector<std::uint8_t> invalid_polygons(const LayerData& d, AssessReport* r, std::size_t k)
+std::vector<std::uint8_t> invalid_polygons(const LayerData& d, const std::vector<std::uint32_t>* only, AssessReport* r,
+                                           std::size_t k)
 {
     std::vector<std::uint8_t> invalid(d.features.size(), 0);
     tbb::combinable<std::vector<AssessExample>> found;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, d.features.size(), 64), [&](const auto& range) {
-        for (std::size_t i = range.begin(); i < range.end(); ++i) {
+    const std::size_t n = only ? only->size() : d.features.size();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64), [&](const auto& range) {
+        for (std::size_t j = range.begin(); j < range.end(); ++j) {
+            const std::size_t i = only ? (*only)[j] : j;
             AssessExample e;
             if (d.features[i].kind != FeatureKind::polygon || check_valid(d, d.features[i], e)) {
                 continue;
@@ -112,7 +115,7 @@ std::vector<std::uint8_t> measure_validity(const Context& c, AssessReport& r)
     count_unmeasurable(c.b, true, r);
     keep_first(r.unmeasurable, c.k, by_fids);
     keep_first(r.empty, c.k, by_fids);
-    return invalid_polygons(c.b, &r, c.k);
+    return invalid_polygons(c.b, nullptr, &r, c.k);
 }
 
 } // namespace trisnap::assess

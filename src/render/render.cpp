@@ -23,6 +23,7 @@ constexpr int k_footer = 30;      // the legend
 constexpr int k_panel_title = 43; // three lines above each panel
 constexpr std::size_t k_max_markers_per_kind = 500;
 constexpr std::size_t k_ranked_in_overview = 10;
+constexpr std::size_t k_max_code_labels = 60; // more markers than this get no code beside them
 
 std::string file_name(const std::string& path) { return std::filesystem::path(path).filename().string(); }
 
@@ -136,6 +137,26 @@ Box overview_world(const RenderOptions& o, const Inputs& in)
     return world.grown(std::max({world.width(), world.height(), 1e-9}) * 0.02);
 }
 
+bool same_site(const Site& a, const Site& b) { return a.kind == b.kind && a.at == b.at && a.fid == b.fid && a.fid2 == b.fid2; }
+
+/// The ranked sites get their rank and code; the other markers their code, when few enough.
+void label_sites(Canvas& canvas, const View& view, const RenderResult& result)
+{
+    std::vector<Box> placed;
+    for (std::size_t i = 0; i < result.ranked.size(); ++i) {
+        draw_site_label(canvas, view, result.ranked[i], i + 1, placed);
+    }
+    if (result.shown.size() > k_max_code_labels) {
+        return;
+    }
+    for (const Site& s : result.shown) {
+        const bool ranked = std::any_of(result.ranked.begin(), result.ranked.end(), [&](const Site& r) { return same_site(r, s); });
+        if (!ranked) {
+            draw_site_label(canvas, view, s, 0, placed);
+        }
+    }
+}
+
 void render_overview(const RenderOptions& o, const Inputs& in, const std::vector<Site>& sites, RenderResult& result)
 {
     const Box world = overview_world(o, in);
@@ -153,9 +174,7 @@ void render_overview(const RenderOptions& o, const Inputs& in, const std::vector
     for (const Site& s : result.shown) {
         draw_site_marker(*canvas, view, s);
     }
-    for (std::size_t i = 0; i < result.ranked.size(); ++i) {
-        draw_site_label(*canvas, view, result.ranked[i], i + 1);
-    }
+    label_sites(*canvas, view, result);
     finish_map(*canvas, view, in.in.crs);
     draw_legend_row(*canvas, result, in, false);
     canvas->save(o.output);

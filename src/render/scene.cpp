@@ -197,13 +197,31 @@ void draw_site_marker(Canvas& canvas, const View& view, const Site& site)
     canvas.circle(view.to_px(xy(site.at)), site.kind == SiteKind::problem ? 5 : 7, style, site_class(site.kind));
 }
 
-void draw_site_label(Canvas& canvas, const View& view, const Site& site, std::size_t rank)
+void draw_site_label(Canvas& canvas, const View& view, const Site& site, std::size_t rank, std::vector<Box>& placed)
 {
     const XY at = view.to_px(xy(site.at));
-    const std::string label = fmt::format("#{} {}", rank, assess::site_code(site));
-    const double x = at.x + 9;
-    canvas.rect({x - 1, at.y - 6, x + Canvas::text_width(label, 1) + 1, at.y + 4}, {Rgba{255, 255, 255, 220}, std::nullopt, 1}, "label");
-    canvas.text({x, at.y + 3}, label, 1, kind_colour(site.kind), Anchor::start);
+    const std::string code = assess::site_code(site);
+    const std::string label = rank > 0 ? fmt::format("#{} {}", rank, code) : code;
+    const double width = Canvas::text_width(label, 1) + 2;
+    // Right of the marker, then below, above and left; a ranked site's label goes right when
+    // every side is taken, a code alone is left out then.
+    const std::array<XY, 4> corners{{{at.x + 8, at.y - 6}, {at.x + 8, at.y + 5}, {at.x + 8, at.y - 17}, {at.x - 8 - width, at.y - 6}}};
+    std::optional<Box> box;
+    for (XY c : corners) {
+        const Box candidate{c.x, c.y, c.x + width, c.y + 10};
+        if (!box && std::none_of(placed.begin(), placed.end(), [&](const Box& b) { return b.intersects(candidate); })) {
+            box = candidate;
+        }
+    }
+    if (!box && rank == 0) {
+        return;
+    }
+    if (!box) {
+        box = Box{corners[0].x, corners[0].y, corners[0].x + width, corners[0].y + 10};
+    }
+    placed.push_back(*box);
+    canvas.rect(*box, {Rgba{255, 255, 255, 220}, std::nullopt, 1}, "label");
+    canvas.text({box->xmin + 1, box->ymax - 1}, label, 1, kind_colour(site.kind), Anchor::start);
 }
 
 void draw_site_focus(Canvas& canvas, const View& view, const Site& site)

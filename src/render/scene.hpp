@@ -49,8 +49,10 @@ Rgba identity_colour(std::uint32_t identity);
 
 /// A small fixed-size circle (overview): thick for contract breaches.
 void draw_site_marker(Canvas& canvas, const View& view, const Site& site);
-/// The rank and code of a worst site beside its marker ("#1 drift"), on a white ground.
-void draw_site_label(Canvas& canvas, const View& view, const Site& site, std::size_t rank);
+/// The rank and code of a worst site beside its marker ("#1 drift"; rank 0: the code alone), on
+/// a white ground, on the first side of the marker where it covers no label in `placed` (then
+/// added to it).
+void draw_site_label(Canvas& canvas, const View& view, const Site& site, std::size_t rank, std::vector<Box>& placed);
 /// A panel's site: the pair joined by a line, circled with room to spare.
 void draw_site_focus(Canvas& canvas, const View& view, const Site& site);
 

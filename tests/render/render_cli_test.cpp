@@ -135,7 +135,14 @@ TEST(RenderCli, OverviewNumbersTheWorstSitesAndDrawsTheInputOnTop)
     EXPECT_NE(run.out.find("  #2 drift 3 T (> 2T), fid 2 at 33, 10\n"), std::string::npos) << run.out;
     EXPECT_NE(text.find(">#1 missing</text>"), std::string::npos) << "labelled with rank and code";
     EXPECT_NE(text.find(">#2 drift</text>"), std::string::npos);
-    EXPECT_EQ(svg_counts(svg)["rect.label"], 3) << "one label per ranked site";
+    Counts c = svg_counts(svg);
+    int markers = 0;
+    for (const auto& [element, n] : c) {
+        markers += element.rfind("circle.site-", 0) == 0 ? n : 0;
+    }
+    EXPECT_EQ(markers, 8);
+    EXPECT_EQ(c["rect.label"], markers) << "every marker named: the ranked ones by rank and code, the rest by code";
+    EXPECT_NE(text.find(">vertex-vertex</text>"), std::string::npos);
     EXPECT_LT(text.find("class=\"out\""), text.find("class=\"in\"")) << "the input is drawn over the output";
 }
 

@@ -51,8 +51,9 @@ public:
                                  result.panels ? fmt::format("{} panels", result.panels)
                                                : fmt::format("{} sites marked", result.shown.size()));
         std::cout << render::summarise(result);
-        if (m_options.worst > 0 && result.panels < static_cast<std::size_t>(m_options.worst))
+        if (m_options.worst > 0 && result.panels < static_cast<std::size_t>(m_options.worst)) {
             std::cout << fmt::format("only {} distinct sites to show (asked for {})\n", result.panels, m_options.worst);
+        }
         return 0;
     }
 

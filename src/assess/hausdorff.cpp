@@ -27,8 +27,12 @@ std::vector<Seg> segments_of(const LayerData& d, const Feature& f)
     std::vector<Seg> out;
     for (std::uint32_t i = f.part_begin; i < f.part_end; ++i) {
         const Part& part = d.parts[i];
-        if (part.end - part.begin == 1) out.push_back({d.pts[part.begin], d.pts[part.begin]});
-        for (std::uint32_t k = part.begin; k + 1 < part.end; ++k) out.push_back({d.pts[k], d.pts[k + 1]});
+        if (part.end - part.begin == 1) {
+            out.push_back({d.pts[part.begin], d.pts[part.begin]});
+        }
+        for (std::uint32_t k = part.begin; k + 1 < part.end; ++k) {
+            out.push_back({d.pts[k], d.pts[k + 1]});
+        }
     }
     return out;
 }
@@ -38,11 +42,17 @@ class Target {
 public:
     explicit Target(std::vector<Seg> segs) : m_segs(std::move(segs))
     {
-        for (const Seg& s : m_segs) m_sorted.push_back(normalised(s));
+        for (const Seg& s : m_segs) {
+            m_sorted.push_back(normalised(s));
+        }
         std::sort(m_sorted.begin(), m_sorted.end());
-        if (m_segs.size() <= 32) return;
+        if (m_segs.size() <= 32) {
+            return;
+        }
         std::vector<Box> boxes;
-        for (const Seg& s : m_segs) boxes.push_back(segment_box(s.a, s.b));
+        for (const Seg& s : m_segs) {
+            boxes.push_back(segment_box(s.a, s.b));
+        }
         m_tree.build(std::move(boxes));
     }
     std::pair<std::uint32_t, double> nearest(Pt p) const
@@ -51,7 +61,9 @@ public:
             std::pair<std::uint32_t, double> best{0, k_inf};
             for (std::uint32_t i = 0; i < m_segs.size(); ++i) {
                 const double d = point_segment_distance(p, m_segs[i].a, m_segs[i].b);
-                if (d < best.second) best = {i, d};
+                if (d < best.second) {
+                    best = {i, d};
+                }
             }
             return best;
         }
@@ -127,7 +139,9 @@ void directed_edge(const Seg& s, const Target& to, double eps, Far& far)
             const double g0 = to.distance_to(iv.n0, at(iv.t1)), g1 = to.distance_to(iv.n1, at(iv.t0));
             bound = std::min(bound, max_of_min_chords(iv.f0, g0, g1, iv.f1));
         }
-        if (bound <= far.distance + eps || len <= eps) continue;
+        if (bound <= far.distance + eps || len <= eps) {
+            continue;
+        }
         const double tm = 0.5 * (iv.t0 + iv.t1);
         const auto [nm, fm] = to.nearest(at(tm));
         note(fm, tm, nm);
@@ -146,14 +160,21 @@ Far directed(const Target& from, const Target& to, double eps)
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, per_chunk.size(), 1),
         [&](const auto& range) {
-            for (std::size_t c = range.begin(); c < range.end(); ++c)
-                for (std::size_t i = c * chunk; i < std::min(segs.size(), (c + 1) * chunk); ++i)
-                    if (!to.has(segs[i])) directed_edge(segs[i], to, eps, per_chunk[c]);
+            for (std::size_t c = range.begin(); c < range.end(); ++c) {
+                for (std::size_t i = c * chunk; i < std::min(segs.size(), (c + 1) * chunk); ++i) {
+                    if (!to.has(segs[i])) {
+                        directed_edge(segs[i], to, eps, per_chunk[c]);
+                    }
+                }
+            }
         },
         tbb::simple_partitioner());
     Far far;
-    for (const Far& f : per_chunk)
-        if (f.distance > far.distance) far = f;
+    for (const Far& f : per_chunk) {
+        if (f.distance > far.distance) {
+            far = f;
+        }
+    }
     return far;
 }
 

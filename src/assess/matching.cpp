@@ -10,7 +10,9 @@ namespace {
 std::vector<std::uint32_t> order_by_key(const LayerData& d)
 {
     std::vector<std::uint32_t> order(d.features.size());
-    for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+    for (std::uint32_t i = 0; i < order.size(); ++i) {
+        order[i] = i;
+    }
     std::stable_sort(order.begin(), order.end(),
                      [&](std::uint32_t x, std::uint32_t y) { return d.features[x].key < d.features[y].key; });
     return order;
@@ -25,9 +27,15 @@ Matching match_keys(const LayerData& a, const LayerData& b)
     for (std::size_t ia = 0, ib = 0; ia < oa.size() && ib < ob.size();) {
         const std::string& ka = a.features[oa[ia]].key;
         const std::string& kb = b.features[ob[ib]].key;
-        if (ka < kb) ++ia;
-        else if (kb < ka) ++ib;
-        else match[oa[ia++]] = ob[ib++];
+        if (ka < kb) {
+            ++ia;
+        }
+        else if (kb < ka) {
+            ++ib;
+        }
+        else {
+            match[oa[ia++]] = ob[ib++];
+        }
     }
     return match;
 }
@@ -37,7 +45,9 @@ std::string shown(const std::string& value) { return value == "\x01null" ? "null
 void compare_values(const LayerData& a, const Feature& fa, const Feature& fb, AssessReport& r)
 {
     for (std::size_t i = 0; i < fa.values.size(); ++i) {
-        if (fa.values[i] == fb.values[i]) continue;
+        if (fa.values[i] == fb.values[i]) {
+            continue;
+        }
         ++r.n_attr_mismatch;
         const Pt p = a.anchor(fa);
         const std::string difference = a.compared_fields[i] + ": " + shown(fa.values[i]) + " vs " + shown(fb.values[i]);

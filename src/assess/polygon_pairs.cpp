@@ -26,10 +26,13 @@ struct Seg {
 std::vector<Seg> window_segments(const LayerData& d, const Feature& f, const Box& window)
 {
     std::vector<Seg> out;
-    for (std::uint32_t i = f.part_begin; i < f.part_end; ++i)
-        for (std::uint32_t k = d.parts[i].begin; k + 1 < d.parts[i].end; ++k)
-            if (d.pts[k] != d.pts[k + 1] && segment_box(d.pts[k], d.pts[k + 1]).intersects(window))
+    for (std::uint32_t i = f.part_begin; i < f.part_end; ++i) {
+        for (std::uint32_t k = d.parts[i].begin; k + 1 < d.parts[i].end; ++k) {
+            if (d.pts[k] != d.pts[k + 1] && segment_box(d.pts[k], d.pts[k + 1]).intersects(window)) {
                 out.push_back({d.pts[k], d.pts[k + 1]});
+            }
+        }
+    }
     return out;
 }
 
@@ -37,19 +40,27 @@ std::vector<Seg> window_segments(const LayerData& d, const Feature& f, const Box
 bool any_near_pair(const std::vector<Seg>& sa, const std::vector<Seg>& sb, const std::function<bool(const Seg&, const Seg&)>& fn)
 {
     if (sa.size() * sb.size() <= 1024) {
-        for (const Seg& x : sa)
-            for (const Seg& y : sb)
-                if (fn(x, y)) return true;
+        for (const Seg& x : sa) {
+            for (const Seg& y : sb) {
+                if (fn(x, y)) {
+                    return true;
+                }
+            }
+        }
         return false;
     }
     std::vector<Box> boxes;
     boxes.reserve(sb.size());
-    for (const Seg& y : sb) boxes.push_back(segment_box(y.a, y.b));
+    for (const Seg& y : sb) {
+        boxes.push_back(segment_box(y.a, y.b));
+    }
     const StrTree tree(std::move(boxes));
     bool stop = false;
     for (const Seg& x : sa) {
         tree.query(segment_box(x.a, x.b), [&](std::uint32_t j) { stop = stop || fn(x, sb[j]); });
-        if (stop) return true;
+        if (stop) {
+            return true;
+        }
     }
     return false;
 }
@@ -79,10 +90,16 @@ double shared_length(const LayerData& d, const Feature& fa, const Feature& fb, P
 double surface_area(const OGRGeometry& g)
 {
     const OGRwkbGeometryType type = wkbFlatten(g.getGeometryType());
-    if (OGR_GT_IsSurface(type)) return g.toSurface()->get_Area();
-    if (!OGR_GT_IsSubClassOf(type, wkbGeometryCollection)) return 0;
+    if (OGR_GT_IsSurface(type)) {
+        return g.toSurface()->get_Area();
+    }
+    if (!OGR_GT_IsSubClassOf(type, wkbGeometryCollection)) {
+        return 0;
+    }
     double area = 0;
-    for (const OGRGeometry* member : *g.toGeometryCollection()) area += surface_area(*member);
+    for (const OGRGeometry* member : *g.toGeometryCollection()) {
+        area += surface_area(*member);
+    }
     return area;
 }
 
@@ -95,13 +112,19 @@ double intersection_area(const LayerData& d, const Feature& fa, const Feature& f
     std::unique_ptr<OGRGeometry> inter(ga->Intersection(gb.get()));
     if (!inter) { // invalid operands (counted as invalid already): measure their repaired forms
         std::unique_ptr<OGRGeometry> va(ga->MakeValid()), vb(gb->MakeValid());
-        if (va && vb) inter.reset(va->Intersection(vb.get()));
+        if (va && vb) {
+            inter.reset(va->Intersection(vb.get()));
+        }
     }
     CPLPopErrorHandler();
-    if (!inter || inter->IsEmpty()) return 0;
+    if (!inter || inter->IsEmpty()) {
+        return 0;
+    }
     const double area = surface_area(*inter);
     OGRPoint centroid;
-    if (area > 0 && inter->Centroid(&centroid) == OGRERR_NONE) *where = {centroid.getX(), centroid.getY()};
+    if (area > 0 && inter->Centroid(&centroid) == OGRERR_NONE) {
+        *where = {centroid.getX(), centroid.getY()};
+    }
     return area;
 }
 

@@ -23,7 +23,9 @@ struct Messages {
 void CPL_STDCALL remember(CPLErr, CPLErrorNum, const char* message)
 {
     auto* messages = static_cast<Messages*>(CPLGetErrorHandlerUserData());
-    if (messages && message) messages->last = message;
+    if (messages && message) {
+        messages->last = message;
+    }
 }
 
 /// IsValid with GEOS's reason; the reason's point when it names one, else the feature's anchor.
@@ -34,7 +36,9 @@ bool check_valid(const LayerData& d, const Feature& f, AssessExample& example)
     CPLPushErrorHandlerEx(remember, &messages);
     const bool valid = g && g->IsValid();
     CPLPopErrorHandler();
-    if (valid) return true;
+    if (valid) {
+        return true;
+    }
     const Pt p = d.anchor(f);
     example = example_at(f.fid, -1, p, 0, messages.last.empty() ? "invalid" : messages.last);
     const auto at = messages.last.find(" at or near point ");

@@ -57,14 +57,20 @@ PixelRings shape_to_px(const Shape& shape, const View& view, bool clip)
     for (const auto& ring : shape.rings) {
         std::vector<XY> px;
         px.reserve(ring.size());
-        for (XY p : ring) px.push_back(view.to_px(p));
+        for (XY p : ring) {
+            px.push_back(view.to_px(p));
+        }
         px = drop_close_points(px, k_min_step_px);
         if (!clip) {
             rings.push_back(std::move(px));
         } else if (shape.polygon) {
-            if (auto clipped = clip_ring(px, limit); !clipped.empty()) rings.push_back(std::move(clipped));
+            if (auto clipped = clip_ring(px, limit); !clipped.empty()) {
+                rings.push_back(std::move(clipped));
+            }
         } else {
-            for (auto& piece : clip_line(px, limit)) rings.push_back(std::move(piece));
+            for (auto& piece : clip_line(px, limit)) {
+                rings.push_back(std::move(piece));
+            }
         }
     }
     return rings;
@@ -74,8 +80,11 @@ PixelRings shape_to_px(const Shape& shape, const View& view, bool clip)
 double round_down_nice(double v)
 {
     const double p = std::pow(10.0, std::floor(std::log10(v)));
-    for (double m : {5.0, 2.0, 1.0})
-        if (m * p <= v) return m * p;
+    for (double m : {5.0, 2.0, 1.0}) {
+        if (m * p <= v) {
+            return m * p;
+        }
+    }
     return p;
 }
 
@@ -101,16 +110,21 @@ View::View(const Box& world, const Box& px, double x_stretch) : m_px(px)
 double x_stretch_for(const CrsInfo& crs, const Box& world)
 {
     // Coordinates beyond ±90 in y are not latitudes, whatever the CRS says.
-    if (crs.kind != CrsInfo::Kind::geographic || world.height() > 60 || world.ymin < -90 || world.ymax > 90) return 1.0;
+    if (crs.kind != CrsInfo::Kind::geographic || world.height() > 60 || world.ymin < -90 || world.ymax > 90) {
+        return 1.0;
+    }
     const double lat = std::clamp(world.centre().y, -80.0, 80.0);
     return std::cos(lat * std::numbers::pi / 180.0);
 }
 
 double metres(const CrsInfo& crs, double units, double lat)
 {
-    if (crs.kind == CrsInfo::Kind::geographic)
+    if (crs.kind == CrsInfo::Kind::geographic) {
         return std::abs(lat) <= 90 ? units * k_metres_per_degree * std::cos(lat * std::numbers::pi / 180.0) : 0.0;
-    if (crs.kind == CrsInfo::Kind::projected) return units * crs.metres_per_unit;
+    }
+    if (crs.kind == CrsInfo::Kind::projected) {
+        return units * crs.metres_per_unit;
+    }
     return 0;
 }
 
@@ -120,11 +134,15 @@ std::size_t draw_layer(Canvas& canvas, const View& view, const Layer& layer, Lay
     const Style style = role_style(role, overview);
     std::size_t drawn = 0;
     for (const Shape& shape : layer.shapes) {
-        if (!shape.box.intersects(shown)) continue;
+        if (!shape.box.intersects(shown)) {
+            continue;
+        }
         const bool inside = shape.box.xmin >= shown.xmin && shape.box.xmax <= shown.xmax &&
                             shape.box.ymin >= shown.ymin && shape.box.ymax <= shown.ymax;
         PixelRings rings = shape_to_px(shape, view, !inside);
-        if (rings.empty()) continue;
+        if (rings.empty()) {
+            continue;
+        }
         canvas.path(rings, shape.polygon, shape_style(shape, role, style), role_class(role));
         ++drawn;
     }

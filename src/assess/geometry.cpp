@@ -161,17 +161,13 @@ SegmentContact segment_contact(Pt p1, Pt q1, Pt p2, Pt q2, Pt* where)
     if (where) {
         if (o1 == 0) {
             *where = p2;
-        }
-        else if (o2 == 0) {
+        } else if (o2 == 0) {
             *where = q2;
-        }
-        else if (o3 == 0) {
+        } else if (o3 == 0) {
             *where = p1;
-        }
-        else if (o4 == 0) {
+        } else if (o4 == 0) {
             *where = q1;
-        }
-        else {
+        } else {
             const double dx1 = q1.x - p1.x, dy1 = q1.y - p1.y, dx2 = q2.x - p2.x, dy2 = q2.y - p2.y;
             const double t = ((p2.x - p1.x) * dy2 - (p2.y - p1.y) * dx2) / (dx1 * dy2 - dy1 * dx2);
             *where = {p1.x + t * dx1, p1.y + t * dy1};

@@ -29,11 +29,9 @@ Matching match_keys(const LayerData& a, const LayerData& b)
         const std::string& kb = b.features[ob[ib]].key;
         if (ka < kb) {
             ++ia;
-        }
-        else if (kb < ka) {
+        } else if (kb < ka) {
             ++ib;
-        }
-        else {
+        } else {
             match[oa[ia++]] = ob[ib++];
         }
     }

@@ -49,8 +49,7 @@ Contact contact(const std::vector<SideSeg>& sa, const std::vector<SideSeg>& sb)
         const SegmentContact c = segment_contact(x.a, x.b, y.a, y.b);
         if (c == SegmentContact::crossing) {
             result = Contact::crossing;
-        }
-        else if (c != SegmentContact::none) {
+        } else if (c != SegmentContact::none) {
             result = Contact::clean;
         }
         return result == Contact::crossing;

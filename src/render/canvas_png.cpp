@@ -22,6 +22,36 @@ struct Edge {
     double x0, y0, x1, y1; // y0 < y1
 };
 
+/// The non-horizontal edges of the rings, each pointing down (y0 < y1), sorted by y0.
+std::vector<Edge> downward_edges(const PixelRings& rings)
+{
+    std::vector<Edge> edges;
+    for (const auto& ring : rings) {
+        for (std::size_t i = 0; i < ring.size(); ++i) {
+            const XY p = ring[i];
+            const XY q = ring[(i + 1) % ring.size()];
+            if (p.y < q.y) {
+                edges.push_back({p.x, p.y, q.x, q.y});
+            } else if (q.y < p.y) {
+                edges.push_back({q.x, q.y, p.x, p.y});
+            }
+        }
+    }
+    std::sort(edges.begin(), edges.end(), [](const Edge& a, const Edge& b) { return a.y0 < b.y0; });
+    return edges;
+}
+
+/// The edges' bounding box.
+Box edge_bounds(const std::vector<Edge>& edges)
+{
+    Box box;
+    for (const Edge& e : edges) {
+        box.add(XY{e.x0, e.y0});
+        box.add(XY{e.x1, e.y1});
+    }
+    return box;
+}
+
 class RasterCanvas : public Canvas {
 public:
     RasterCanvas(int width, int height, Rgba background)
@@ -200,32 +230,15 @@ void RasterCanvas::add_span(std::vector<double>& cover, double xa, double xb) co
 
 void RasterCanvas::fill(const PixelRings& rings, Rgba c)
 {
-    std::vector<Edge> edges;
-    for (const auto& ring : rings) {
-        for (std::size_t i = 0; i < ring.size(); ++i) {
-            const XY p = ring[i], q = ring[(i + 1) % ring.size()];
-            if (p.y < q.y) {
-                edges.push_back({p.x, p.y, q.x, q.y});
-            }
-            else if (q.y < p.y) {
-                edges.push_back({q.x, q.y, p.x, p.y});
-            }
-        }
-    }
+    const std::vector<Edge> edges = downward_edges(rings);
     if (edges.empty()) {
         return;
     }
-    std::sort(edges.begin(), edges.end(), [](const Edge& a, const Edge& b) { return a.y0 < b.y0; });
-    double ymin = edges.front().y0, ymax = ymin, xmin = edges.front().x0, xmax = xmin;
-    for (const Edge& e : edges) {
-        ymax = std::max(ymax, e.y1);
-        xmin = std::min({xmin, e.x0, e.x1});
-        xmax = std::max({xmax, e.x0, e.x1});
-    }
-    const int col0 = static_cast<int>(std::max(m_clip.xmin, std::floor(xmin)));
-    const int col1 = static_cast<int>(std::min(m_clip.xmax, std::ceil(xmax)));
-    const int row0 = static_cast<int>(std::max(m_clip.ymin, std::floor(ymin)));
-    const int row1 = static_cast<int>(std::min(m_clip.ymax, std::ceil(ymax)));
+    const Box bounds = edge_bounds(edges);
+    const int col0 = static_cast<int>(std::max(m_clip.xmin, std::floor(bounds.xmin)));
+    const int col1 = static_cast<int>(std::min(m_clip.xmax, std::ceil(bounds.xmax)));
+    const int row0 = static_cast<int>(std::max(m_clip.ymin, std::floor(bounds.ymin)));
+    const int row1 = static_cast<int>(std::min(m_clip.ymax, std::ceil(bounds.ymax)));
     std::vector<double> cover(static_cast<std::size_t>(m_width) + 1, 0.0), xs;
     std::vector<const Edge*> active;
     std::size_t next = 0;

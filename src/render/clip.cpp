@@ -40,8 +40,7 @@ bool liang_barsky(XY a, XY b, const Box& box, double& t0, double& t1)
         const double t = q[i] / p[i];
         if (p[i] < 0) {
             t0 = std::max(t0, t);
-        }
-        else {
+        } else {
             t1 = std::min(t1, t);
         }
     }
@@ -108,11 +107,9 @@ std::vector<XY> drop_close_points(const std::vector<XY>& points, double min_step
         const bool last = i + 1 == points.size();
         if (kept.empty() || distance(kept.back(), points[i]) >= min_step) {
             kept.push_back(points[i]);
-        }
-        else if (last && kept.size() > 1) {
+        } else if (last && kept.size() > 1) {
             kept.back() = points[i];
-        }
-        else if (last) {
+        } else if (last) {
             kept.push_back(points[i]);
         }
     }

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <tuple>
 #include <vector>
 
 namespace trisnap::assess {
@@ -77,16 +78,7 @@ void keep_first(std::vector<AssessExample>& examples, std::size_t k, Less less)
 /// Order by (fid_a, fid_b, x, y): for defect lists.
 inline bool by_fids(const AssessExample& a, const AssessExample& b)
 {
-    if (a.fid_a != b.fid_a) {
-        return a.fid_a < b.fid_a;
-    }
-    if (a.fid_b != b.fid_b) {
-        return a.fid_b < b.fid_b;
-    }
-    if (a.x != b.x) {
-        return a.x < b.x;
-    }
-    return a.y < b.y;
+    return std::tie(a.fid_a, a.fid_b, a.x, a.y) < std::tie(b.fid_a, b.fid_b, b.x, b.y);
 }
 
 /// New defects first, then by FIDs: for overlaps and crossings, some of which the input had.

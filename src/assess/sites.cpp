@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <tuple>
 
 namespace trisnap::assess {
 namespace {
@@ -31,16 +32,7 @@ bool worse(const Site& a, const Site& b)
     if (direction != 0 && a.value != b.value) {
         return direction > 0 ? a.value > b.value : a.value < b.value;
     }
-    if (a.code != b.code) {
-        return a.code < b.code;
-    }
-    if (a.fid != b.fid) {
-        return a.fid < b.fid;
-    }
-    if (a.fid2 != b.fid2) {
-        return a.fid2 < b.fid2;
-    }
-    return a.at < b.at;
+    return std::tie(a.code, a.fid, a.fid2, a.at) < std::tie(b.code, b.fid, b.fid2, b.at);
 }
 
 /// 0: breach nobody explained; 1: breach the report explains; 2: reported problem; 3: the

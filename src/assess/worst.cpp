@@ -66,54 +66,53 @@ void add_measured(const AssessReport& r, std::vector<Site>& sites)
     }
 }
 
-/// Whether the two layers differ near a place: the segments meeting a square window, compared.
+/// Whether the two layers differ near a place: their segments meeting a square window, compared.
+/// Segments are indexed one by one (a feature can be a continent of 10^5 edges).
 class ChangeTest {
 public:
-    ChangeTest(const LayerData& a, const LayerData& b, double radius) : m_a(a), m_b(b), m_radius(radius)
-    {
-        m_tree_a.build(boxes(a));
-        m_tree_b.build(boxes(b));
-    }
+    ChangeTest(const LayerData& a, const LayerData& b, double radius) : m_a(a), m_b(b), m_radius(radius) {}
     bool changed(Pt p) const
     {
         const Box window{p.x - m_radius, p.y - m_radius, p.x + m_radius, p.y + m_radius};
-        return segments(m_a, m_tree_a, window) != segments(m_b, m_tree_b, window);
+        return m_a.near(window) != m_b.near(window);
     }
 
 private:
     using Key = std::array<double, 4>;
-    static std::vector<Box> boxes(const LayerData& d)
-    {
-        std::vector<Box> out;
-        for (const Feature& f : d.features) {
-            out.push_back(f.box);
-        }
-        return out;
-    }
-    static std::vector<Key> segments(const LayerData& d, const StrTree& tree, const Box& window)
-    {
-        std::vector<Key> out;
-        tree.query(window, [&](std::uint32_t id) {
-            const Feature& f = d.features[id];
-            for (std::uint32_t i = f.part_begin; i < f.part_end; ++i) {
+
+    struct Indexed {
+        std::vector<Key> segments; // (x1, y1, x2, y2) with the lower end first
+        StrTree tree;
+
+        explicit Indexed(const LayerData& d)
+        {
+            std::vector<Box> boxes;
+            for (std::size_t i = 0; i < d.parts.size(); ++i) {
                 for (std::uint32_t k = d.parts[i].begin; k + 1 < d.parts[i].end; ++k) {
                     const Pt p = std::min(d.pts[k], d.pts[k + 1]);
                     const Pt q = std::max(d.pts[k], d.pts[k + 1]);
-                    if (p != q && segment_box(p, q).intersects(window)) {
-                        out.push_back({p.x, p.y, q.x, q.y});
+                    if (p != q) {
+                        segments.push_back({p.x, p.y, q.x, q.y});
+                        boxes.push_back(segment_box(p, q));
                     }
                 }
             }
-        });
-        std::sort(out.begin(), out.end());
-        out.erase(std::unique(out.begin(), out.end()), out.end());
-        return out;
-    }
-    const LayerData& m_a;
-    const LayerData& m_b;
+            tree.build(std::move(boxes));
+        }
+
+        std::vector<Key> near(const Box& window) const
+        {
+            std::vector<Key> out;
+            tree.query(window, [&](std::uint32_t id) { out.push_back(segments[id]); });
+            std::sort(out.begin(), out.end());
+            out.erase(std::unique(out.begin(), out.end()), out.end());
+            return out;
+        }
+    };
+
+    Indexed m_a;
+    Indexed m_b;
     double m_radius;
-    StrTree m_tree_a;
-    StrTree m_tree_b;
 };
 
 } // namespace

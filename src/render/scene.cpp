@@ -1,5 +1,6 @@
 #include "render/scene.hpp"
 
+#include "io/tolerance.hpp"
 #include "render/clip.hpp"
 
 #include <fmt/format.h>
@@ -12,7 +13,6 @@
 namespace trisnap::render {
 namespace {
 
-constexpr double k_metres_per_degree = 6378137.0 * std::numbers::pi / 180.0; // on the equator
 constexpr double k_min_step_px = 0.35; // vertices closer than this to the last one are not drawn
 constexpr double k_clip_margin_px = 4; // clip edges fall outside the visible area (and strokes)
 
@@ -120,7 +120,7 @@ double x_stretch_for(const CrsInfo& crs, const Box& world)
 double metres(const CrsInfo& crs, double units, double lat)
 {
     if (crs.kind == CrsInfo::Kind::geographic) {
-        return std::abs(lat) <= 90 ? units * k_metres_per_degree * std::cos(lat * std::numbers::pi / 180.0) : 0.0;
+        return std::abs(lat) <= 90 ? units * metres_per_degree(lat) : 0.0; // as --tolerance-m converts
     }
     if (crs.kind == CrsInfo::Kind::projected) {
         return units * crs.metres_per_unit;

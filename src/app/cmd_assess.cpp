@@ -1,17 +1,20 @@
-// `trisnap assess ORIGINAL SNAPPED --tolerance T [--layer-a A] [--layer-b B] [--key FIELD]
-// [--json FILE] [--fail-on-defects]`: measures a snapped layer against its original (any two OGR
-// layers, so GEOS or CGAL output too); a table on stdout, the full report as JSON on request.
+// `trisnap assess ORIGINAL SNAPPED (--tolerance T | --tolerance-m M) [--layer-a A] [--layer-b B]
+// [--key FIELD] [--report SNAP_REPORT.json] [--json FILE] [--fail-on-defects]`: measures a
+// snapped layer against its original (any two OGR layers, so GEOS or CGAL output too); a table
+// on stdout, the full report as JSON on request.
 #include "app/command.hpp"
 #include "assess/assess.hpp"
+#include "assess/snap_report.hpp"
 #include "config/errors.hpp"
 #include "io/dataset.hpp"
 #include "io/io_error.hpp"
+#include "io/tolerance.hpp"
 
 #include <fmt/format.h>
 
-#include <cmath>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <stdexcept>
 
 namespace trisnap {
@@ -24,10 +27,12 @@ public:
         CLI::App* app = parent.add_subcommand("assess", "measure a snapped layer against its original");
         app->add_option("ORIGINAL", m_original, "the layer before snapping (any OGR vector dataset)")->required();
         app->add_option("SNAPPED", m_snapped, "the layer after snapping, by any tool")->required();
-        app->add_option("--tolerance", m_tolerance, "the snapping tolerance T, in layer units")->required();
+        app->add_option("--tolerance", m_tolerance, "the snapping tolerance T, in layer units");
+        app->add_option("--tolerance-m", m_tolerance_m, "T in metres, converted on ORIGINAL as `snap` converts it");
         app->add_option("--layer-a", m_layer_a, "layer of ORIGINAL (default: its only polygon/line layer)");
         app->add_option("--layer-b", m_layer_b, "layer of SNAPPED (default: its only polygon/line layer)");
         app->add_option("--key", m_key, "match features by this field instead of by FID");
+        app->add_option("--report", m_report, "the `trisnap snap --report` JSON of this run: the defects it explains are excused");
         app->add_option("--json", m_json, "write the full report, with examples, as JSON");
         app->add_flag("--fail-on-defects", m_fail_on_defects, "exit 3 when the contract does not hold");
         return app;
@@ -36,33 +41,64 @@ public:
     int run() override
     {
         setup_logging(0, 0);
-        if (!std::isfinite(m_tolerance) || m_tolerance <= 0)
-            throw argument_error(fmt::format("--tolerance must be finite and > 0, got {}", m_tolerance));
         GDALDatasetUniquePtr original = open_input(m_original);
         GDALDatasetUniquePtr snapped = open_input(m_snapped);
         OGRLayer& a = select_layer(*original, m_original, m_layer_a);
         OGRLayer& b = select_layer(*snapped, m_snapped, m_layer_b);
-        AssessReport report;
-        try {
-            report = assess_layers(a, b, AssessOptions{m_tolerance, m_key, 20});
-        } catch (const std::invalid_argument& e) {
-            throw argument_error(e.what());
+        const std::optional<assess::SnapReport> report = read_report();
+        AssessOptions options{tolerance(a, report), m_key, 20};
+        options.report = report ? &*report : nullptr;
+        const AssessReport result = measure({*original, a}, {*snapped, b}, options);
+        if (!m_json.empty()) {
+            write_json(result);
         }
-        if (!m_json.empty()) write_json(report);
-        std::cout << assess_report_table(report);
-        return m_fail_on_defects && !report.contract_holds() ? 3 : 0;
+        std::cout << assess_report_table(result);
+        return m_fail_on_defects && !result.contract_holds() ? 3 : 0;
     }
 
 private:
+    std::optional<assess::SnapReport> read_report() const
+    {
+        if (m_report.empty()) {
+            return std::nullopt;
+        }
+        return assess::read_snap_report(m_report);
+    }
+
+    /// --tolerance, --tolerance-m, else the snap report's.
+    double tolerance(OGRLayer& layer, const std::optional<assess::SnapReport>& report) const
+    {
+        const std::optional<double> t = tolerance_option(m_tolerance, m_tolerance_m, layer);
+        if (t) {
+            return *t;
+        }
+        if (report && report->tolerance) {
+            return *report->tolerance;
+        }
+        throw argument_error("no tolerance: give --tolerance T (layer units), --tolerance-m M or --report SNAP_REPORT.json");
+    }
+
+    static AssessReport measure(LayerSource a, LayerSource b, const AssessOptions& options)
+    {
+        try {
+            return assess_layers(a, b, options);
+        } catch (const std::invalid_argument& e) {
+            throw argument_error(e.what());
+        }
+    }
+
     void write_json(const AssessReport& report) const
     {
         std::ofstream out(m_json);
         out << assess_report_json(report);
-        if (!out.flush()) throw io_error(m_json, "", "cannot write the JSON report");
+        if (!out.flush()) {
+            throw io_error(m_json, "", "cannot write the JSON report");
+        }
     }
 
-    std::string m_original, m_snapped, m_layer_a, m_layer_b, m_key, m_json;
-    double m_tolerance = 0;
+    std::string m_original, m_snapped, m_layer_a, m_layer_b, m_key, m_json, m_report;
+    std::optional<double> m_tolerance;
+    std::optional<double> m_tolerance_m;
     bool m_fail_on_defects = false;
 };
 

@@ -1,5 +1,6 @@
-// `trisnap render IN [SNAPPED] -o OUT.svg|png [--bbox ...] [--worst N]`: a picture of what
-// snapping did (src/render). setup() only parses; the checks that need no I/O run first in run().
+// `trisnap render IN [SNAPPED] -o OUT.svg|png [--bbox ...] [--worst N] [--tolerance T |
+// --tolerance-m M] [--report REPORT.json]`: a picture of what snapping did (src/render), with
+// the sites `trisnap assess` finds. setup() only parses; checks that need no I/O run first.
 #include "app/command.hpp"
 #include "app/options.hpp"
 #include "config/errors.hpp"
@@ -22,13 +23,14 @@ public:
         app->add_option("-o,--output", m_options.output, "picture to write: .svg or .png")->required();
         app->add_option("--bbox", m_bbox, "draw only xmin,ymin,xmax,ymax (layer units)");
         app->add_option("--worst", m_worst, "one zoomed panel for each of the N worst sites (needs a tolerance)");
-        app->add_option("--tolerance", m_tolerance, "T in layer units: pairs closer than T and drift are measured against it");
+        app->add_option("--tolerance", m_options.tolerance, "T in layer units: the sites are measured and ranked against it");
+        app->add_option("--tolerance-m", m_options.tolerance_m, "T in metres, converted on IN as `snap` converts it");
         app->add_option("--layer-a", m_options.layer_a, "layer of IN");
         app->add_option("--layer-b", m_options.layer_b, "layer of SNAPPED");
-        app->add_option("--key", m_options.key, "match features by this integer field (default: orig_fid if present, else FID)");
+        app->add_option("--key", m_options.key, "match features by this field (default: orig_fid of SNAPPED, else FID)");
         app->add_option("--width", m_options.width, "picture width in pixels (default 1200)");
-        app->add_option("--problems", m_options.problems_report,
-                        "a `trisnap snap --report` JSON: mark its problems (and take T from it)");
+        app->add_option("--report,--problems", m_options.report,
+                        "a `trisnap snap --report` JSON: mark its problems, excuse what it explains (and take T from it)");
         return app;
     }
 
@@ -38,9 +40,10 @@ public:
             const std::vector<double> b = parse_bbox(m_bbox);
             m_options.bbox = render::Box{b[0], b[1], b[2], b[3]};
         }
-        if (m_tolerance) m_options.tolerance = *m_tolerance;
         if (m_worst) {
-            if (*m_worst < 1 || *m_worst > 100) throw argument_error(fmt::format("--worst must be 1..100, got {}", *m_worst));
+            if (*m_worst < 1 || *m_worst > 100) {
+                throw argument_error(fmt::format("--worst must be 1..100, got {}", *m_worst));
+            }
             m_options.worst = *m_worst;
         }
         const render::RenderResult result = render::render(m_options);
@@ -48,15 +51,15 @@ public:
                                  result.panels ? fmt::format("{} panels", result.panels)
                                                : fmt::format("{} sites marked", result.shown.size()));
         std::cout << render::summarise(result);
-        if (m_options.worst > 0 && result.panels < static_cast<std::size_t>(m_options.worst))
+        if (m_options.worst > 0 && result.panels < static_cast<std::size_t>(m_options.worst)) {
             std::cout << fmt::format("only {} distinct sites to show (asked for {})\n", result.panels, m_options.worst);
+        }
         return 0;
     }
 
 private:
     render::RenderOptions m_options;
     std::string m_bbox;
-    std::optional<double> m_tolerance;
     std::optional<int> m_worst;
 };
 

@@ -9,6 +9,7 @@
 #include "io/layer_info.hpp"
 #include "io/output_driver.hpp"
 #include "io/problems_layer.hpp"
+#include "io/tolerance.hpp"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -40,61 +41,16 @@ void apply_filters(const SnapArgs& args, OGRLayer& layer)
     }
 }
 
-struct LatitudeRange {
-    double south = 0.0;
-    double north = 0.0;
-    double middle() const { return (south + north) / 2; }
-};
-
-/// The latitudes the layer's extent spans, honouring the data axis order.
-LatitudeRange latitude_range(OGRLayer& layer, const OGRSpatialReference& srs)
-{
-    OGREnvelope e;
-    if (layer.GetExtent(&e, TRUE) != OGRERR_NONE) {
-        throw argument_error("--tolerance-m: the layer has no extent to take a latitude from");
-    }
-    const auto& mapping = srs.GetDataAxisToSRSAxisMapping();
-    const bool lat_is_x = srs.EPSGTreatsAsLatLong() && !mapping.empty() && mapping[0] == 1;
-    return lat_is_x ? LatitudeRange{e.MinX, e.MaxX} : LatitudeRange{e.MinY, e.MaxY};
-}
-
-/// The degrees chosen at latitude φ0 are M·cos φ / cos φ0 metres east-west at φ: warn when that
-/// is off by more than 10 % somewhere in the layer (a world layer converted at its middle).
-void warn_latitude_spread(double metres, double degrees, const LatitudeRange& range)
-{
-    const double at_middle = metres_per_degree(range.middle());
-    const double nearest_equator = range.south <= 0 && range.north >= 0 ? 0.0 : std::min(std::abs(range.south), std::abs(range.north));
-    const double farthest = std::max(std::abs(range.south), std::abs(range.north));
-    const double most = metres_per_degree(nearest_equator) / at_middle;
-    const double least = metres_per_degree(farthest) / at_middle;
-    if (most <= 1.1 && least >= 0.9) {
-        return;
-    }
-    spdlog::warn("--tolerance-m {}: the layer spans latitudes {:.1f} to {:.1f}; {:.3g} degrees (converted at {:.1f}) "
-                 "is {:.3g} m to {:.3g} m east-west across it, more than 10 % off; use a projected CRS, or --tolerance "
-                 "in degrees", metres, range.south, range.north, degrees, range.middle(), metres * least, metres * most);
-}
-
-double from_metres(double metres, OGRLayer& layer, std::string& note)
-{
-    const OGRSpatialReference* srs = layer.GetSpatialRef();
-    if (!srs) throw argument_error("--tolerance-m needs a layer with a CRS; give --tolerance in layer units");
-    if (!srs->IsGeographic()) {
-        const double unit = srs->GetLinearUnits();
-        note = fmt::format("{} m = {} layer units ({} m each)", metres, metres / unit, unit);
-        return metres / unit;
-    }
-    const LatitudeRange range = latitude_range(layer, *srs);
-    const double lat = range.middle();
-    const double degrees = metres / metres_per_degree(lat);
-    note = fmt::format("{} m = {:.3g} degrees at mean latitude {:.4f}", metres, degrees, lat);
-    warn_latitude_spread(metres, degrees, range);
-    return degrees;
-}
-
 double resolve_tolerance(const Config& config, OGRLayer& layer, std::string& note)
 {
-    if (config.snap.tolerance_m) return from_metres(*config.snap.tolerance_m, layer, note);
+    if (config.snap.tolerance_m) {
+        std::string warning;
+        const double t = tolerance_from_metres(*config.snap.tolerance_m, layer, note, &warning);
+        if (!warning.empty()) {
+            spdlog::warn("{}", warning);
+        }
+        return t;
+    }
     if (!config.snap.tolerance)
         throw argument_error("no tolerance: give --tolerance T (layer units) or --tolerance-m M");
     const double t = *config.snap.tolerance;
@@ -203,12 +159,6 @@ void protect_input(Plan& plan, const SnapArgs& args, GDALDriver& driver)
 }
 
 } // namespace
-
-double metres_per_degree(double lat)
-{
-    const double k_equator = 6378137.0 * std::numbers::pi / 180.0;
-    return k_equator * std::max(std::cos(lat * std::numbers::pi / 180.0), 1e-3);
-}
 
 Plan make_plan(const SnapArgs& args, const Config& config)
 {

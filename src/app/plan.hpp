@@ -41,7 +41,4 @@ Plan make_plan(const SnapArgs& args, const Config& config);
 /// Human-readable plan (the output of `validate`).
 void print_plan(const Plan& plan, std::ostream& out);
 
-/// Metres per degree of longitude at latitude `lat` on the WGS84 equator radius sphere.
-double metres_per_degree(double lat);
-
 } // namespace trisnap

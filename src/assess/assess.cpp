@@ -1,8 +1,8 @@
 // assess_layers: read both layers, match, then run each family of measures.
 #include "assess/assess.hpp"
+#include "assess/layer_pair.hpp"
 #include "assess/measures.hpp"
-
-#include <ogrsf_frmts.h>
+#include "assess/snap_report.hpp"
 
 #include <fmt/format.h>
 
@@ -13,84 +13,120 @@
 namespace trisnap {
 namespace {
 
-std::vector<std::string> field_names(OGRLayer& layer)
+using Clock = std::chrono::steady_clock;
+
+/// Records the seconds since the last lap under a phase name.
+class PhaseClock {
+public:
+    explicit PhaseClock(AssessReport& report) : m_report(report) {}
+    void lap(const char* name)
+    {
+        const auto now = Clock::now();
+        m_report.timings.emplace_back(name, std::chrono::duration<double>(now - m_last).count());
+        m_last = now;
+    }
+    void finish() { m_report.seconds = std::chrono::duration<double>(Clock::now() - m_start).count(); }
+
+private:
+    AssessReport& m_report;
+    Clock::time_point m_start = Clock::now();
+    Clock::time_point m_last = m_start;
+};
+
+void check_tolerance(double t)
 {
-    std::vector<std::string> names;
-    OGRFeatureDefn* defn = layer.GetLayerDefn();
-    for (int i = 0; i < defn->GetFieldCount(); ++i) names.push_back(defn->GetFieldDefn(i)->GetNameRef());
-    return names;
+    if (!(t > 0) || !std::isfinite(t)) {
+        throw std::invalid_argument(fmt::format("--tolerance must be finite and > 0, got {}", t));
+    }
 }
 
-/// Fields present in both layers, in the original's order (names compared case-insensitively,
-/// as OGR does).
-std::vector<std::string> common_fields(OGRLayer& a, OGRLayer& b)
+assess::Excuses excuses_of(const AssessOptions& options)
 {
-    std::vector<std::string> common;
-    for (const std::string& name : field_names(a))
-        if (b.GetLayerDefn()->GetFieldIndex(name.c_str()) >= 0) common.push_back(name);
-    return common;
+    return options.report ? assess::Excuses(*options.report) : assess::Excuses();
 }
 
-void check_key(OGRLayer& layer, const std::string& key)
+/// The located problems of the snap report, for sites and pictures.
+std::vector<AssessExample> located_problems(const AssessOptions& options)
 {
-    if (key.empty() || layer.GetLayerDefn()->GetFieldIndex(key.c_str()) >= 0) return;
-    std::string fields;
-    for (const std::string& name : field_names(layer)) fields += (fields.empty() ? "" : ", ") + name;
-    throw std::invalid_argument(fmt::format("--key: layer '{}' has no field '{}'; fields: {}", layer.GetName(), key,
-                                            fields.empty() ? "none" : fields));
+    std::vector<AssessExample> out;
+    if (!options.report) {
+        return out;
+    }
+    for (const assess::ReportedProblem& p : options.report->problems) {
+        if (p.at) {
+            AssessExample e;
+            e.fid_a = p.fid;
+            e.x = p.at->x;
+            e.y = p.at->y;
+            e.value = p.code;
+            e.text = p.name;
+            out.push_back(e);
+        }
+    }
+    return out;
 }
 
-/// The key of the snapped layer: --key, else its `orig_fid` field when the original has none
-/// (trisnap writes the input FID there for formats that renumber features: Shapefile, FlatGeobuf),
-/// else the FID (empty).
-std::string snapped_key(OGRLayer& original, OGRLayer& snapped, const std::string& key)
+void run_measures(assess::Context& c, const AssessOptions& options, AssessReport& r, PhaseClock& clock)
 {
-    if (!key.empty()) return key;
-    const bool has_orig = snapped.GetLayerDefn()->GetFieldIndex("orig_fid") >= 0;
-    return has_orig && original.GetLayerDefn()->GetFieldIndex("orig_fid") < 0 ? "orig_fid" : "";
+    c.match = assess::measure_matching(c.a, c.b, c.excuses, r, c.k);
+    c.input_of.assign(c.b.features.size(), -1);
+    for (std::size_t i = 0; i < c.match.size(); ++i) {
+        if (c.match[i] >= 0) {
+            c.input_of[static_cast<std::size_t>(c.match[i])] = static_cast<std::int64_t>(i);
+        }
+    }
+    clock.lap("matching");
+    const std::vector<std::uint8_t> invalid = assess::measure_validity(c, r);
+    clock.lap("validity");
+    assess::measure_separations(c, r);
+    clock.lap("separations");
+    assess::measure_overlaps(c, invalid, r);
+    clock.lap("overlaps");
+    assess::measure_gaps(c, r);
+    clock.lap("gaps");
+    assess::measure_hausdorff(c, r);
+    clock.lap("hausdorff");
+    assess::measure_worst(c, options.worst, r);
+    clock.lap("worst");
+}
+
+void measure(const assess::LayerData& a, const assess::LayerData& b, const std::string& matched_by,
+             const AssessOptions& options, AssessReport& r, PhaseClock& clock)
+{
+    r.matched_by = matched_by;
+    r.layer_a = a.name;
+    r.layer_b = b.name;
+    r.tolerance = options.tolerance;
+    r.snap_report = options.report ? options.report->path : "";
+    r.n_in = static_cast<std::int64_t>(a.features.size());
+    r.n_out = static_cast<std::int64_t>(b.features.size());
+    r.problems = located_problems(options);
+    assess::Context c{a, b, {}, {}, options.tolerance, options.max_examples, excuses_of(options)};
+    run_measures(c, options, r, clock);
 }
 
 } // namespace
 
-AssessReport assess_layers(OGRLayer& original, OGRLayer& snapped, const AssessOptions& options)
+AssessReport assess_layers(LayerSource original, LayerSource snapped, const AssessOptions& options)
 {
-    if (!(options.tolerance > 0) || !std::isfinite(options.tolerance))
-        throw std::invalid_argument(fmt::format("--tolerance must be finite and > 0, got {}", options.tolerance));
-    check_key(original, options.key_field);
-    check_key(snapped, options.key_field);
-    const auto start = std::chrono::steady_clock::now();
+    check_tolerance(options.tolerance);
     AssessReport r;
-    auto last = start;
-    const auto phase = [&](const char* name) {
-        const auto now = std::chrono::steady_clock::now();
-        r.timings.emplace_back(name, std::chrono::duration<double>(now - last).count());
-        last = now;
-    };
-    const std::vector<std::string> fields = common_fields(original, snapped);
-    const std::string key_b = snapped_key(original, snapped, options.key_field);
-    const assess::LayerData a = assess::read_layer(original, options.key_field, fields);
-    const assess::LayerData b = assess::read_layer(snapped, key_b, fields);
-    phase("read");
-    r.matched_by = !options.key_field.empty() ? "key " + options.key_field : key_b.empty() ? "fid" : "orig_fid";
-    r.layer_a = a.name;
-    r.layer_b = b.name;
-    r.tolerance = options.tolerance;
-    r.n_in = static_cast<std::int64_t>(a.features.size());
-    r.n_out = static_cast<std::int64_t>(b.features.size());
-    const std::size_t k = options.max_examples;
-    const assess::Matching match = assess::measure_matching(a, b, r, k);
-    phase("matching");
-    const std::vector<std::uint8_t> invalid = assess::measure_validity(a, b, r, k);
-    phase("validity");
-    assess::measure_separations(b, r, k);
-    phase("separations");
-    assess::measure_overlaps(a, b, match, invalid, r, k);
-    phase("overlaps");
-    assess::measure_gaps(a, b, match, options.tolerance, r, k);
-    phase("gaps");
-    assess::measure_hausdorff(a, b, match, options.tolerance, r, k);
-    phase("hausdorff");
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    PhaseClock clock(r);
+    const assess::LayerPair pair = assess::read_pair(original, snapped, options.key_field);
+    clock.lap("read");
+    measure(pair.a, pair.b, pair.matched_by, options, r, clock);
+    clock.finish();
+    return r;
+}
+
+AssessReport assess_data(const assess::LayerData& a, const assess::LayerData& b, const std::string& matched_by,
+                         const AssessOptions& options)
+{
+    check_tolerance(options.tolerance);
+    AssessReport r;
+    PhaseClock clock(r);
+    measure(a, b, matched_by, options, r, clock);
+    clock.finish();
     return r;
 }
 
@@ -99,20 +135,25 @@ bool AssessReport::contract_holds() const { return contract_failures().empty(); 
 std::vector<std::string> AssessReport::contract_failures() const
 {
     std::vector<std::string> failures;
-    const auto count = [&](std::int64_t n, const char* what) {
-        if (n > 0) failures.push_back(fmt::format("{} {}", n, what));
+    const auto count = [&](std::int64_t n, const std::string& what) {
+        if (n > 0) {
+            failures.push_back(fmt::format("{} {}", n, what));
+        }
     };
-    count(n_invalid, "invalid");
-    count(n_crossings, "crossings");
-    count(n_overlaps, "overlaps");
-    count(gaps_new, "new gaps");
-    count(n_missing, "missing");
     const double t = tolerance;
-    if (min_vertex_vertex && *min_vertex_vertex < t)
-        failures.push_back(fmt::format("min_vertex_vertex {:.3g} T < T", *min_vertex_vertex / t));
-    if (min_vertex_edge && *min_vertex_edge < t / 2)
-        failures.push_back(fmt::format("min_vertex_edge {:.3g} T < T/2", *min_vertex_edge / t));
-    if (max_hausdorff > 2 * t) failures.push_back(fmt::format("max_hausdorff {:.3g} T > 2T", max_hausdorff / t));
+    count(n_invalid, "invalid");
+    count(n_crossings_new, "new crossings");
+    count(n_overlaps_new, "new overlaps");
+    count(gaps_new - excused_counts.gaps, "new gaps");
+    count(n_missing - excused_counts.missing, "missing");
+    const std::int64_t separations = n_vv_breaches + n_ve_breaches - excused_counts.separations;
+    if (separations > 0) {
+        failures.push_back(fmt::format("{} separation breaches (min vertex-vertex {:.3g} T, min vertex-edge {:.3g} T)",
+                                       separations, min_vertex_vertex.value_or(t) / t, min_vertex_edge.value_or(t) / t));
+    }
+    if (n_drift - excused_counts.drift > 0) {
+        failures.push_back(fmt::format("{} features drift > 2T (max {:.3g} T)", n_drift - excused_counts.drift, max_hausdorff / t));
+    }
     return failures;
 }
 

@@ -46,9 +46,13 @@ int grow_expansion(double* e, int n, double b)
         double sum, err;
         two_sum(q, e[i], sum, err);
         q = sum;
-        if (err != 0) e[out++] = err;
+        if (err != 0) {
+            e[out++] = err;
+        }
     }
-    if (q != 0) e[out++] = q;
+    if (q != 0) {
+        e[out++] = q;
+    }
     return out;
 }
 
@@ -65,7 +69,9 @@ int exact_orient(Pt a, Pt b, Pt c)
         n = grow_expansion(e.data(), n, lo);
         n = grow_expansion(e.data(), n, hi);
     }
-    if (n == 0) return 0;
+    if (n == 0) {
+        return 0;
+    }
     return e[n - 1] > 0 ? 1 : -1;
 }
 
@@ -78,17 +84,25 @@ int orient(Pt a, Pt b, Pt c)
     const double det = detleft - detright;
     double detsum;
     if (detleft > 0) {
-        if (detright <= 0) return det > 0 ? 1 : (det < 0 ? -1 : 0);
+        if (detright <= 0) {
+            return det > 0 ? 1 : (det < 0 ? -1 : 0);
+        }
         detsum = detleft + detright;
     } else if (detleft < 0) {
-        if (detright >= 0) return det > 0 ? 1 : (det < 0 ? -1 : 0);
+        if (detright >= 0) {
+            return det > 0 ? 1 : (det < 0 ? -1 : 0);
+        }
         detsum = -detleft - detright;
     } else {
         return det > 0 ? 1 : (det < 0 ? -1 : 0);
     }
     const double bound = 3.3306690738754716e-16 * detsum;
-    if (det > bound) return 1;
-    if (-det > bound) return -1;
+    if (det > bound) {
+        return 1;
+    }
+    if (-det > bound) {
+        return -1;
+    }
     return exact_orient(a, b, c);
 }
 
@@ -100,15 +114,25 @@ SegmentContact collinear_contact(Pt p1, Pt q1, Pt p2, Pt q2, Pt* where)
     const Pt lo1 = std::min(p1, q1), hi1 = std::max(p1, q1);
     const Pt lo2 = std::min(p2, q2), hi2 = std::max(p2, q2);
     const Pt lo = std::max(lo1, lo2), hi = std::min(hi1, hi2);
-    if (hi < lo) return SegmentContact::none;
+    if (hi < lo) {
+        return SegmentContact::none;
+    }
     if (lo == hi) {
         const bool end1 = lo == p1 || lo == q1, end2 = lo == p2 || lo == q2;
-        if (end1 && end2) return SegmentContact::shared_endpoint;
-        if (where) *where = lo;
+        if (end1 && end2) {
+            return SegmentContact::shared_endpoint;
+        }
+        if (where) {
+            *where = lo;
+        }
         return SegmentContact::crossing;
     }
-    if (lo1 == lo2 && hi1 == hi2) return SegmentContact::identical;
-    if (where) *where = {0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y)};
+    if (lo1 == lo2 && hi1 == hi2) {
+        return SegmentContact::identical;
+    }
+    if (where) {
+        *where = {0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y)};
+    }
     return SegmentContact::crossing;
 }
 
@@ -116,20 +140,34 @@ SegmentContact collinear_contact(Pt p1, Pt q1, Pt p2, Pt q2, Pt* where)
 
 SegmentContact segment_contact(Pt p1, Pt q1, Pt p2, Pt q2, Pt* where)
 {
-    if (!segment_box(p1, q1).intersects(segment_box(p2, q2))) return SegmentContact::none;
+    if (!segment_box(p1, q1).intersects(segment_box(p2, q2))) {
+        return SegmentContact::none;
+    }
     const int o1 = orient(p1, q1, p2), o2 = orient(p1, q1, q2);
-    if (o1 * o2 > 0) return SegmentContact::none;
+    if (o1 * o2 > 0) {
+        return SegmentContact::none;
+    }
     const int o3 = orient(p2, q2, p1), o4 = orient(p2, q2, q1);
-    if (o3 * o4 > 0) return SegmentContact::none;
-    if (o1 == 0 && o2 == 0 && o3 == 0 && o4 == 0) return collinear_contact(p1, q1, p2, q2, where);
+    if (o3 * o4 > 0) {
+        return SegmentContact::none;
+    }
+    if (o1 == 0 && o2 == 0 && o3 == 0 && o4 == 0) {
+        return collinear_contact(p1, q1, p2, q2, where);
+    }
     // Not collinear: the segments meet in exactly one point.
-    if (p1 == p2 || p1 == q2 || q1 == p2 || q1 == q2) return SegmentContact::shared_endpoint;
+    if (p1 == p2 || p1 == q2 || q1 == p2 || q1 == q2) {
+        return SegmentContact::shared_endpoint;
+    }
     if (where) {
-        if (o1 == 0) *where = p2;
-        else if (o2 == 0) *where = q2;
-        else if (o3 == 0) *where = p1;
-        else if (o4 == 0) *where = q1;
-        else {
+        if (o1 == 0) {
+            *where = p2;
+        } else if (o2 == 0) {
+            *where = q2;
+        } else if (o3 == 0) {
+            *where = p1;
+        } else if (o4 == 0) {
+            *where = q1;
+        } else {
             const double dx1 = q1.x - p1.x, dy1 = q1.y - p1.y, dx2 = q2.x - p2.x, dy2 = q2.y - p2.y;
             const double t = ((p2.x - p1.x) * dy2 - (p2.y - p1.y) * dx2) / (dx1 * dy2 - dy1 * dx2);
             *where = {p1.x + t * dx1, p1.y + t * dy1};
@@ -145,15 +183,23 @@ double point_segment_distance(Pt p, Pt a, Pt b, Pt* closest)
     double t = len2 > 0 ? ((p.x - a.x) * dx + (p.y - a.y) * dy) / len2 : 0;
     t = std::clamp(t, 0.0, 1.0);
     const Pt c = t == 0 ? a : (t == 1 ? b : Pt{a.x + t * dx, a.y + t * dy});
-    if (closest) *closest = c;
+    if (closest) {
+        *closest = c;
+    }
     return distance(p, c);
 }
 
 double collinear_overlap(Pt p1, Pt q1, Pt p2, Pt q2)
 {
-    if (p1 == q1 || p2 == q2) return 0;
-    if (!segment_box(p1, q1).intersects(segment_box(p2, q2))) return 0;
-    if (orient(p1, q1, p2) != 0 || orient(p1, q1, q2) != 0) return 0;
+    if (p1 == q1 || p2 == q2) {
+        return 0;
+    }
+    if (!segment_box(p1, q1).intersects(segment_box(p2, q2))) {
+        return 0;
+    }
+    if (orient(p1, q1, p2) != 0 || orient(p1, q1, q2) != 0) {
+        return 0;
+    }
     const Pt lo = std::max(std::min(p1, q1), std::min(p2, q2));
     const Pt hi = std::min(std::max(p1, q1), std::max(p2, q2));
     return hi < lo ? 0 : distance(lo, hi);

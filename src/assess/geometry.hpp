@@ -25,13 +25,17 @@ struct Box {
     double xmin = k_inf, ymin = k_inf, xmax = -k_inf, ymax = -k_inf;
     void add(Pt p)
     {
-        xmin = std::min(xmin, p.x), ymin = std::min(ymin, p.y);
-        xmax = std::max(xmax, p.x), ymax = std::max(ymax, p.y);
+        xmin = std::min(xmin, p.x);
+        ymin = std::min(ymin, p.y);
+        xmax = std::max(xmax, p.x);
+        ymax = std::max(ymax, p.y);
     }
     void add(const Box& b)
     {
-        xmin = std::min(xmin, b.xmin), ymin = std::min(ymin, b.ymin);
-        xmax = std::max(xmax, b.xmax), ymax = std::max(ymax, b.ymax);
+        xmin = std::min(xmin, b.xmin);
+        ymin = std::min(ymin, b.ymin);
+        xmax = std::max(xmax, b.xmax);
+        ymax = std::max(ymax, b.ymax);
     }
     bool empty() const { return xmin > xmax; }
     /// Closed boxes: touching boxes intersect.

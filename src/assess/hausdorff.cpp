@@ -27,8 +27,12 @@ std::vector<Seg> segments_of(const LayerData& d, const Feature& f)
     std::vector<Seg> out;
     for (std::uint32_t i = f.part_begin; i < f.part_end; ++i) {
         const Part& part = d.parts[i];
-        if (part.end - part.begin == 1) out.push_back({d.pts[part.begin], d.pts[part.begin]});
-        for (std::uint32_t k = part.begin; k + 1 < part.end; ++k) out.push_back({d.pts[k], d.pts[k + 1]});
+        if (part.end - part.begin == 1) {
+            out.push_back({d.pts[part.begin], d.pts[part.begin]});
+        }
+        for (std::uint32_t k = part.begin; k + 1 < part.end; ++k) {
+            out.push_back({d.pts[k], d.pts[k + 1]});
+        }
     }
     return out;
 }
@@ -38,11 +42,17 @@ class Target {
 public:
     explicit Target(std::vector<Seg> segs) : m_segs(std::move(segs))
     {
-        for (const Seg& s : m_segs) m_sorted.push_back(normalised(s));
+        for (const Seg& s : m_segs) {
+            m_sorted.push_back(normalised(s));
+        }
         std::sort(m_sorted.begin(), m_sorted.end());
-        if (m_segs.size() <= 32) return;
+        if (m_segs.size() <= 32) {
+            return;
+        }
         std::vector<Box> boxes;
-        for (const Seg& s : m_segs) boxes.push_back(segment_box(s.a, s.b));
+        for (const Seg& s : m_segs) {
+            boxes.push_back(segment_box(s.a, s.b));
+        }
         m_tree.build(std::move(boxes));
     }
     std::pair<std::uint32_t, double> nearest(Pt p) const
@@ -51,13 +61,21 @@ public:
             std::pair<std::uint32_t, double> best{0, k_inf};
             for (std::uint32_t i = 0; i < m_segs.size(); ++i) {
                 const double d = point_segment_distance(p, m_segs[i].a, m_segs[i].b);
-                if (d < best.second) best = {i, d};
+                if (d < best.second) {
+                    best = {i, d};
+                }
             }
             return best;
         }
         return m_tree.nearest(p, [&](std::uint32_t i) { return point_segment_distance(p, m_segs[i].a, m_segs[i].b); });
     }
     double distance_to(std::uint32_t i, Pt p) const { return point_segment_distance(p, m_segs[i].a, m_segs[i].b); }
+    Pt closest(std::uint32_t i, Pt p) const
+    {
+        Pt c;
+        point_segment_distance(p, m_segs[i].a, m_segs[i].b, &c);
+        return c;
+    }
     const std::vector<Seg>& segments() const { return m_segs; }
     /// True when this side has exactly this segment (either direction): every point of it is at 0.
     bool has(const Seg& s) const { return std::binary_search(m_sorted.begin(), m_sorted.end(), normalised(s)); }
@@ -87,7 +105,8 @@ double max_of_min_chords(double a0, double a1, double b0, double b1)
 
 struct Far {
     double distance = 0;
-    Pt where;
+    Pt where; // the farthest point
+    Pt near;  // its nearest point on the other side
 };
 
 struct Interval {
@@ -98,14 +117,16 @@ struct Interval {
 void directed_edge(const Seg& s, const Target& to, double eps, Far& far)
 {
     const auto at = [&](double t) { return Pt{s.a.x + t * (s.b.x - s.a.x), s.a.y + t * (s.b.y - s.a.y)}; };
-    const auto note = [&](double f, double t) {
-        if (f > far.distance) far = {f, at(t)};
+    const auto note = [&](double f, double t, std::uint32_t nearest) {
+        if (f > far.distance) {
+            far = {f, at(t), to.closest(nearest, at(t))};
+        }
     };
     const double length = distance(s.a, s.b);
     const auto [n0, f0] = to.nearest(s.a);
     const auto [n1, f1] = to.nearest(s.b);
-    note(f0, 0);
-    note(f1, 1);
+    note(f0, 0, n0);
+    note(f1, 1, n1);
     std::vector<Interval> stack{{0, 1, f0, f1, n0, n1}};
     while (!stack.empty()) {
         const Interval iv = stack.back();
@@ -118,10 +139,12 @@ void directed_edge(const Seg& s, const Target& to, double eps, Far& far)
             const double g0 = to.distance_to(iv.n0, at(iv.t1)), g1 = to.distance_to(iv.n1, at(iv.t0));
             bound = std::min(bound, max_of_min_chords(iv.f0, g0, g1, iv.f1));
         }
-        if (bound <= far.distance + eps || len <= eps) continue;
+        if (bound <= far.distance + eps || len <= eps) {
+            continue;
+        }
         const double tm = 0.5 * (iv.t0 + iv.t1);
         const auto [nm, fm] = to.nearest(at(tm));
-        note(fm, tm);
+        note(fm, tm, nm);
         stack.push_back({iv.t0, tm, iv.f0, fm, iv.n0, nm});
         stack.push_back({tm, iv.t1, fm, iv.f1, nm, iv.n1});
     }
@@ -137,42 +160,62 @@ Far directed(const Target& from, const Target& to, double eps)
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, per_chunk.size(), 1),
         [&](const auto& range) {
-            for (std::size_t c = range.begin(); c < range.end(); ++c)
-                for (std::size_t i = c * chunk; i < std::min(segs.size(), (c + 1) * chunk); ++i)
-                    if (!to.has(segs[i])) directed_edge(segs[i], to, eps, per_chunk[c]);
+            for (std::size_t c = range.begin(); c < range.end(); ++c) {
+                for (std::size_t i = c * chunk; i < std::min(segs.size(), (c + 1) * chunk); ++i) {
+                    if (!to.has(segs[i])) {
+                        directed_edge(segs[i], to, eps, per_chunk[c]);
+                    }
+                }
+            }
         },
         tbb::simple_partitioner());
     Far far;
-    for (const Far& f : per_chunk)
-        if (f.distance > far.distance) far = f;
+    for (const Far& f : per_chunk) {
+        if (f.distance > far.distance) {
+            far = f;
+        }
+    }
     return far;
 }
 
 } // namespace
 
-void measure_hausdorff(const LayerData& a, const LayerData& b, const Matching& match, double tolerance, AssessReport& r,
-                       std::size_t k)
+namespace {
+
+/// Input indexes with a non-empty match.
+std::vector<std::uint32_t> measurable_pairs(const Context& c)
 {
-    std::vector<std::uint32_t> pairs; // input indexes with a non-empty match
-    for (std::uint32_t i = 0; i < a.features.size(); ++i)
-        if (match[i] >= 0 && a.features[i].kind != FeatureKind::empty &&
-            b.features[static_cast<std::size_t>(match[i])].kind != FeatureKind::empty)
+    std::vector<std::uint32_t> pairs;
+    const auto measurable = [](const Feature& f) { return f.kind == FeatureKind::line || f.kind == FeatureKind::polygon; };
+    for (std::uint32_t i = 0; i < c.a.features.size(); ++i) {
+        if (c.match[i] >= 0 && measurable(c.a.features[i]) && measurable(c.b.features[static_cast<std::size_t>(c.match[i])])) {
             pairs.push_back(i);
-    std::vector<AssessExample> per_pair(pairs.size());
-    const double eps = tolerance * 1e-3;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs.size(), 1), [&](const auto& range) {
-        for (std::size_t p = range.begin(); p < range.end(); ++p) {
-            const Feature& fa = a.features[pairs[p]];
-            const Feature& fb = b.features[static_cast<std::size_t>(match[pairs[p]])];
-            const Target ta(segments_of(a, fa)), tb(segments_of(b, fb));
-            Far far = directed(ta, tb, eps);
-            const Far back = directed(tb, ta, eps);
-            if (back.distance > far.distance) far = back;
-            per_pair[p] = {fa.fid, fb.fid, far.where.x, far.where.y, 0, 0, far.distance, "", {}};
         }
-    });
+    }
+    return pairs;
+}
+
+AssessExample feature_hausdorff(const Context& c, std::uint32_t i)
+{
+    const Feature& fa = c.a.features[i];
+    const Feature& fb = c.b.features[static_cast<std::size_t>(c.match[i])];
+    const Target ta(segments_of(c.a, fa));
+    const Target tb(segments_of(c.b, fb));
+    const double eps = c.tolerance * 1e-3;
+    Far far = directed(ta, tb, eps);
+    const Far back = directed(tb, ta, eps);
+    if (back.distance > far.distance) {
+        far = back;
+    }
+    return pair_example(fa.fid, fb.fid, far.where, far.near, far.distance);
+}
+
+void summarise(std::vector<AssessExample>& per_pair, AssessReport& r)
+{
     std::vector<double> values;
-    for (const AssessExample& e : per_pair) values.push_back(e.value);
+    for (const AssessExample& e : per_pair) {
+        values.push_back(e.value);
+    }
     std::sort(values.begin(), values.end());
     if (!values.empty()) {
         r.max_hausdorff = values.back();
@@ -180,7 +223,32 @@ void measure_hausdorff(const LayerData& a, const LayerData& b, const Matching& m
         const auto rank = static_cast<std::size_t>(std::ceil(0.99 * static_cast<double>(values.size())));
         r.p99_hausdorff = values[std::max<std::size_t>(rank, 1) - 1];
     }
-    keep_first(per_pair, k, by_value_desc);
+}
+
+} // namespace
+
+void measure_hausdorff(const Context& c, AssessReport& r)
+{
+    const std::vector<std::uint32_t> pairs = measurable_pairs(c);
+    std::vector<AssessExample> per_pair(pairs.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs.size(), 1), [&](const auto& range) {
+        for (std::size_t p = range.begin(); p < range.end(); ++p) {
+            per_pair[p] = feature_hausdorff(c, pairs[p]);
+        }
+    });
+    summarise(per_pair, r);
+    for (AssessExample& e : per_pair) {
+        if (e.value <= 2 * c.tolerance) {
+            continue;
+        }
+        ++r.n_drift;
+        e.excused_by = c.excuses.explain(Defect::drift, e.fid_a);
+        if (!e.excused_by.empty()) {
+            ++r.excused_counts.drift;
+            note_excused(r, e, "drift");
+        }
+    }
+    keep_first(per_pair, c.k, by_value_desc);
     r.largest_hausdorff = std::move(per_pair);
 }
 

@@ -19,12 +19,19 @@ std::vector<SideSeg> window_segments(const LayerData& d, const std::vector<std::
 {
     std::vector<SideSeg> out;
     for (std::uint32_t i = f.part_begin; i < f.part_end; ++i) {
-        if (d.parts[i].type == PartType::line) continue;
+        if (d.parts[i].type == PartType::line) {
+            continue;
+        }
         for (std::uint32_t k = d.parts[i].begin; k + 1 < d.parts[i].end; ++k) {
             Pt p = d.pts[k], q = d.pts[k + 1];
-            if (p == q || !segment_box(p, q).intersects(window)) continue;
+            if (p == q || !segment_box(p, q).intersects(window)) {
+                continue;
+            }
             bool left = interior_left[i] != 0;
-            if (q < p) std::swap(p, q), left = !left;
+            if (q < p) {
+                std::swap(p, q);
+                left = !left;
+            }
             out.push_back({p, q, left});
         }
     }
@@ -40,22 +47,33 @@ Contact contact(const std::vector<SideSeg>& sa, const std::vector<SideSeg>& sb)
     Contact result = Contact::none;
     const auto pair = [&](const SideSeg& x, const SideSeg& y) {
         const SegmentContact c = segment_contact(x.a, x.b, y.a, y.b);
-        if (c == SegmentContact::crossing) result = Contact::crossing;
-        else if (c != SegmentContact::none) result = Contact::clean;
+        if (c == SegmentContact::crossing) {
+            result = Contact::crossing;
+        } else if (c != SegmentContact::none) {
+            result = Contact::clean;
+        }
         return result == Contact::crossing;
     };
     if (sa.size() * sb.size() <= 1024) {
-        for (const SideSeg& x : sa)
-            for (const SideSeg& y : sb)
-                if (pair(x, y)) return result;
+        for (const SideSeg& x : sa) {
+            for (const SideSeg& y : sb) {
+                if (pair(x, y)) {
+                    return result;
+                }
+            }
+        }
         return result;
     }
     std::vector<Box> boxes;
-    for (const SideSeg& y : sb) boxes.push_back(segment_box(y.a, y.b));
+    for (const SideSeg& y : sb) {
+        boxes.push_back(segment_box(y.a, y.b));
+    }
     const StrTree tree(std::move(boxes));
     for (const SideSeg& x : sa) {
         tree.query(segment_box(x.a, x.b), [&](std::uint32_t j) { if (result != Contact::crossing) pair(x, sb[j]); });
-        if (result == Contact::crossing) return result;
+        if (result == Contact::crossing) {
+            return result;
+        }
     }
     return result;
 }
@@ -67,10 +85,14 @@ bool inside_or_same_side(const LayerData& d, const std::vector<SideSeg>& from, c
     for (const SideSeg& x : from) {
         const auto it = std::lower_bound(to.begin(), to.end(), x, by_ends);
         if (it != to.end() && it->a == x.a && it->b == x.b) {
-            if (it->left == x.left) return true;
+            if (it->left == x.left) {
+                return true;
+            }
             continue;
         }
-        if (d.strictly_inside(other, {0.5 * (x.a.x + x.b.x), 0.5 * (x.a.y + x.b.y)})) return true;
+        if (d.strictly_inside(other, {0.5 * (x.a.x + x.b.x), 0.5 * (x.a.y + x.b.y)})) {
+            return true;
+        }
     }
     return false;
 }
@@ -82,11 +104,14 @@ std::vector<std::int8_t> interior_left_of_parts(const LayerData& d)
     std::vector<std::int8_t> left(d.parts.size(), 0);
     for (std::size_t i = 0; i < d.parts.size(); ++i) {
         const Part& part = d.parts[i];
-        if (part.type == PartType::line) continue;
+        if (part.type == PartType::line) {
+            continue;
+        }
         double twice = 0;
         const Pt o = d.pts[part.begin];
-        for (std::uint32_t k = part.begin; k + 1 < part.end; ++k)
+        for (std::uint32_t k = part.begin; k + 1 < part.end; ++k) {
             twice += (d.pts[k].x - o.x) * (d.pts[k + 1].y - o.y) - (d.pts[k + 1].x - o.x) * (d.pts[k].y - o.y);
+        }
         // A counter-clockwise shell has its interior on the left; the polygon's interior is outside a hole.
         left[i] = (part.type == PartType::shell) == (twice > 0);
     }
@@ -107,8 +132,12 @@ OverlapVerdict interiors_meet(const LayerData& d, const std::vector<std::int8_t>
     case Contact::clean: break;
     }
     // Each midpoint test walks the other feature: keep big pairs for GEOS.
-    if (sa.size() * d.segment_count(fb) + sb.size() * d.segment_count(fa) > 200000) return OverlapVerdict::unknown;
-    if (inside_or_same_side(d, sa, sb, fb) || inside_or_same_side(d, sb, sa, fa)) return OverlapVerdict::overlap;
+    if (sa.size() * d.segment_count(fb) + sb.size() * d.segment_count(fa) > 200000) {
+        return OverlapVerdict::unknown;
+    }
+    if (inside_or_same_side(d, sa, sb, fb) || inside_or_same_side(d, sb, sa, fa)) {
+        return OverlapVerdict::overlap;
+    }
     return OverlapVerdict::disjoint;
 }
 

@@ -32,11 +32,15 @@ void StrTree::build(std::vector<Box> boxes)
     m_nodes.clear();
     m_items.resize(m_boxes.size());
     std::iota(m_items.begin(), m_items.end(), 0u);
-    if (m_boxes.empty()) return;
+    if (m_boxes.empty()) {
+        return;
+    }
     str_order(m_items, [&](std::uint32_t i) -> const Box& { return m_boxes[i]; }, k_fanout);
     for (std::uint32_t i = 0; i < m_items.size(); i += k_fanout) {
         Node leaf{{}, i, std::min<std::uint32_t>(k_fanout, static_cast<std::uint32_t>(m_items.size()) - i), true};
-        for (std::uint32_t k = leaf.first; k < leaf.first + leaf.count; ++k) leaf.box.add(m_boxes[m_items[k]]);
+        for (std::uint32_t k = leaf.first; k < leaf.first + leaf.count; ++k) {
+            leaf.box.add(m_boxes[m_items[k]]);
+        }
         m_nodes.push_back(leaf);
     }
     std::uint32_t level_begin = 0, level_end = static_cast<std::uint32_t>(m_nodes.size());
@@ -47,11 +51,15 @@ void StrTree::build(std::vector<Box> boxes)
         str_order(ids, [&](std::uint32_t i) -> const Box& { return m_nodes[i].box; }, k_fanout);
         std::vector<Node> reordered;
         reordered.reserve(ids.size());
-        for (std::uint32_t id : ids) reordered.push_back(m_nodes[id]);
+        for (std::uint32_t id : ids) {
+            reordered.push_back(m_nodes[id]);
+        }
         std::copy(reordered.begin(), reordered.end(), m_nodes.begin() + level_begin);
         for (std::uint32_t i = level_begin; i < level_end; i += k_fanout) {
             Node parent{{}, i, std::min(k_fanout, level_end - i), false};
-            for (std::uint32_t k = parent.first; k < parent.first + parent.count; ++k) parent.box.add(m_nodes[k].box);
+            for (std::uint32_t k = parent.first; k < parent.first + parent.count; ++k) {
+                parent.box.add(m_nodes[k].box);
+            }
             m_nodes.push_back(parent);
         }
         level_begin = level_end;

@@ -24,14 +24,18 @@ public:
     template <class F>
     void query(const Box& query, F&& f) const
     {
-        if (m_nodes.empty()) return;
+        if (m_nodes.empty()) {
+            return;
+        }
         // Depth-first: at most fanout entries per level on the stack, and depth < 16.
         std::array<std::uint32_t, k_fanout * 16> stack;
         std::size_t top = 0;
         stack[top++] = m_root;
         while (top > 0) {
             const Node& node = m_nodes[stack[--top]];
-            if (!node.box.intersects(query)) continue;
+            if (!node.box.intersects(query)) {
+                continue;
+            }
             for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
                 if (!node.leaf) {
                     stack[top++] = i;
@@ -48,7 +52,9 @@ public:
     std::pair<std::uint32_t, double> nearest(Pt p, D&& dist, double bound = k_inf) const
     {
         std::pair<std::uint32_t, double> best{UINT32_MAX, bound};
-        if (!m_nodes.empty()) nearest_in(m_root, p, dist, best);
+        if (!m_nodes.empty()) {
+            nearest_in(m_root, p, dist, best);
+        }
         return best;
     }
 
@@ -68,18 +74,25 @@ private:
         if (node.leaf) {
             for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
                 const std::uint32_t id = m_items[i];
-                if (m_boxes[id].distance(p) >= best.second) continue;
+                if (m_boxes[id].distance(p) >= best.second) {
+                    continue;
+                }
                 const double d = dist(id);
-                if (d < best.second) best = {id, d};
+                if (d < best.second) {
+                    best = {id, d};
+                }
             }
             return;
         }
         std::array<std::pair<double, std::uint32_t>, k_fanout> order;
         std::uint32_t n = 0;
-        for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
+        for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
             order[n++] = {m_nodes[i].box.distance(p), i};
+        }
         std::sort(order.begin(), order.begin() + n);
-        for (std::uint32_t k = 0; k < n && order[k].first < best.second; ++k) nearest_in(order[k].second, p, dist, best);
+        for (std::uint32_t k = 0; k < n && order[k].first < best.second; ++k) {
+            nearest_in(order[k].second, p, dist, best);
+        }
     }
 
     std::vector<Box> m_boxes;

@@ -168,4 +168,14 @@ std::optional<InputFeature> LayerReader::next()
     return classify_feature(std::move(f));
 }
 
+OGRFeatureUniquePtr LayerReader::next_strict()
+{
+    OGRFeatureUniquePtr f = next_raw();
+    if (f && !m_feature_error.empty()) {
+        throw io_error(m_dataset.GetDescription(), m_layer.GetName(),
+                       "feature FID " + std::to_string(f->GetFID()) + ": " + m_feature_error);
+    }
+    return f;
+}
+
 } // namespace trisnap

@@ -36,6 +36,9 @@ public:
     OGRFeatureUniquePtr next_raw();
     /// GDAL's error while reading the feature next_raw() returned last, or "" when there was none.
     const std::string& feature_error() const { return m_feature_error; }
+    /// next_raw() for the tools that measure geometry themselves (assess, render): an error GDAL
+    /// reports while reading a feature is an io_error naming its FID (a corrupt file is not data).
+    OGRFeatureUniquePtr next_strict();
     /// Features the driver reports, or -1 when counting needs a full read (e.g. OSM).
     std::int64_t count_hint() const { return m_count_hint; }
 

@@ -17,8 +17,12 @@ namespace {
 std::string num(double v)
 {
     std::string s = fmt::format("{:.1f}", std::round(v * 10) / 10);
-    while (s.back() == '0') s.pop_back();
-    if (s.back() == '.') s.pop_back();
+    while (s.back() == '0') {
+        s.pop_back();
+    }
+    if (s.back() == '.') {
+        s.pop_back();
+    }
     return s == "-0" ? "0" : s;
 }
 
@@ -44,13 +48,16 @@ std::string style_attributes(const Style& style, bool closed)
     std::string out;
     if (style.fill && closed) {
         out += " fill=\"" + colour(*style.fill) + "\" fill-rule=\"evenodd\"";
-        if (style.fill->a != 255) out += fmt::format(" fill-opacity=\"{:.2f}\"", style.fill->a / 255.0);
+        if (style.fill->a != 255) {
+            out += fmt::format(" fill-opacity=\"{:.2f}\"", style.fill->a / 255.0);
+        }
     } else {
         out += " fill=\"none\"";
     }
-    if (style.stroke)
+    if (style.stroke) {
         out += " stroke=\"" + colour(*style.stroke) + "\" stroke-width=\"" + num(style.width) +
                "\" stroke-linejoin=\"round\" stroke-linecap=\"round\"";
+    }
     return out;
 }
 
@@ -83,11 +90,16 @@ public:
     {
         std::string d;
         for (const auto& ring : rings) {
-            for (std::size_t i = 0; i < ring.size(); ++i)
+            for (std::size_t i = 0; i < ring.size(); ++i) {
                 d += (i == 0 ? (d.empty() ? "M" : " M") : " L") + num(ring[i].x) + " " + num(ring[i].y);
-            if (closed && !ring.empty()) d += " Z";
+            }
+            if (closed && !ring.empty()) {
+                d += " Z";
+            }
         }
-        if (d.empty()) return;
+        if (d.empty()) {
+            return;
+        }
         // Runs of paths with one style share a <g> carrying it: a big layer's file is mostly
         // coordinates, not repeated attributes.
         const std::string attributes = style_attributes(style, closed);
@@ -126,13 +138,17 @@ public:
         close_group();
         std::ofstream file(path, std::ios::binary);
         file << m_body << "</svg>\n";
-        if (!file) throw io_error(path, "", "cannot write the picture");
+        if (!file) {
+            throw io_error(path, "", "cannot write the picture");
+        }
     }
 
 private:
     void close_group()
     {
-        if (m_group) m_body += "</g>\n";
+        if (m_group) {
+            m_body += "</g>\n";
+        }
         m_group.reset();
     }
 

@@ -32,12 +32,17 @@ bool liang_barsky(XY a, XY b, const Box& box, double& t0, double& t1)
     const std::array<double, 4> q{a.x - box.xmin, box.xmax - a.x, a.y - box.ymin, box.ymax - a.y};
     for (std::size_t i = 0; i < 4; ++i) {
         if (p[i] == 0) {
-            if (q[i] < 0) return false;
+            if (q[i] < 0) {
+                return false;
+            }
             continue;
         }
         const double t = q[i] / p[i];
-        if (p[i] < 0) t0 = std::max(t0, t);
-        else t1 = std::min(t1, t);
+        if (p[i] < 0) {
+            t0 = std::max(t0, t);
+        } else {
+            t1 = std::min(t1, t);
+        }
     }
     return t0 <= t1;
 }
@@ -47,7 +52,9 @@ bool liang_barsky(XY a, XY b, const Box& box, double& t0, double& t1)
 std::vector<XY> clip_ring(const std::vector<XY>& ring, const Box& box)
 {
     std::vector<XY> current = ring, next;
-    if (!current.empty() && current.front() == current.back()) current.pop_back();
+    if (!current.empty() && current.front() == current.back()) {
+        current.pop_back();
+    }
     const std::array<Side, 4> sides{Side{0, box.xmin, false}, Side{0, box.xmax, true}, Side{1, box.ymin, false},
                                     Side{1, box.ymax, true}};
     for (const Side& side : sides) {
@@ -56,13 +63,17 @@ std::vector<XY> clip_ring(const std::vector<XY>& ring, const Box& box)
             const XY a = current[i], b = current[(i + 1) % current.size()];
             if (side.inside(a)) {
                 next.push_back(a);
-                if (!side.inside(b)) next.push_back(side.cross(a, b));
+                if (!side.inside(b)) {
+                    next.push_back(side.cross(a, b));
+                }
             } else if (side.inside(b)) {
                 next.push_back(side.cross(a, b));
             }
         }
         current.swap(next);
-        if (current.empty()) break;
+        if (current.empty()) {
+            break;
+        }
     }
     return current;
 }
@@ -80,7 +91,9 @@ std::vector<std::vector<XY>> clip_line(const std::vector<XY>& line, const Box& b
         }
         const XY p{a.x + t0 * (b.x - a.x), a.y + t0 * (b.y - a.y)};
         const XY q{a.x + t1 * (b.x - a.x), a.y + t1 * (b.y - a.y)};
-        if (!open || t0 > 0) pieces.push_back({p});
+        if (!open || t0 > 0) {
+            pieces.push_back({p});
+        }
         pieces.back().push_back(q);
         open = t1 >= 1;
     }
@@ -92,9 +105,13 @@ std::vector<XY> drop_close_points(const std::vector<XY>& points, double min_step
     std::vector<XY> kept;
     for (std::size_t i = 0; i < points.size(); ++i) {
         const bool last = i + 1 == points.size();
-        if (kept.empty() || distance(kept.back(), points[i]) >= min_step) kept.push_back(points[i]);
-        else if (last && kept.size() > 1) kept.back() = points[i];
-        else if (last) kept.push_back(points[i]);
+        if (kept.empty() || distance(kept.back(), points[i]) >= min_step) {
+            kept.push_back(points[i]);
+        } else if (last && kept.size() > 1) {
+            kept.back() = points[i];
+        } else if (last) {
+            kept.push_back(points[i]);
+        }
     }
     return kept;
 }

@@ -2,52 +2,22 @@
 
 #include "config/errors.hpp"
 #include "io/dataset.hpp"
-#include "io/gdal_errors.hpp"
+#include "io/tolerance.hpp"
+#include "render/scene.hpp"
 
 #include <ogr_spatialref.h>
 
-#include <algorithm>
-#include <cmath>
-#include <memory>
+#include <stdexcept>
 
 namespace trisnap::render {
 namespace {
 
-std::vector<XY> ring_points(const OGRSimpleCurve& curve)
-{
-    std::vector<XY> points;
-    points.reserve(static_cast<std::size_t>(curve.getNumPoints()));
-    for (int i = 0; i < curve.getNumPoints(); ++i) {
-        const XY p{curve.getX(i), curve.getY(i)};
-        if (!std::isfinite(p.x) || !std::isfinite(p.y)) continue; // cannot be drawn or measured
-        if (points.empty() || !(points.back() == p)) points.push_back(p);
-    }
-    return points;
-}
-
-void add_geometry(const OGRGeometry& geometry, Shape& shape)
-{
-    const OGRwkbGeometryType type = wkbFlatten(geometry.getGeometryType());
-    if (type == wkbPolygon) {
-        shape.polygon = true;
-        for (const OGRLinearRing* ring : *geometry.toPolygon())
-            if (auto points = ring_points(*ring); points.size() >= 2) shape.rings.push_back(std::move(points));
-    } else if (type == wkbLineString) {
-        shape.polygon = false;
-        if (auto points = ring_points(*geometry.toLineString()); points.size() >= 2)
-            shape.rings.push_back(std::move(points));
-    } else if (OGR_GT_IsSubClassOf(type, wkbGeometryCollection)) {
-        for (const OGRGeometry* part : *geometry.toGeometryCollection()) add_geometry(*part, shape);
-    } else if (geometry.hasCurveGeometry()) {
-        std::unique_ptr<OGRGeometry> linear(geometry.getLinearGeometry());
-        if (linear) add_geometry(*linear, shape);
-    }
-}
-
 CrsInfo crs_info(const OGRSpatialReference* srs)
 {
     CrsInfo info;
-    if (!srs) return info;
+    if (!srs) {
+        return info;
+    }
     if (srs->IsGeographic()) {
         info.kind = CrsInfo::Kind::geographic;
         info.unit = "deg";
@@ -60,57 +30,101 @@ CrsInfo crs_info(const OGRSpatialReference* srs)
     return info;
 }
 
-std::int64_t key_of(OGRFeature& feature, int key_field)
+Shape shape_of(const assess::LayerData& d, const assess::Feature& f)
 {
-    if (key_field >= 0 && feature.IsFieldSetAndNotNull(key_field))
-        return feature.GetFieldAsInteger64(key_field);
-    return feature.GetFID();
+    Shape shape;
+    shape.fid = f.fid;
+    shape.identity = identity_of(f.key);
+    shape.polygon = f.kind == assess::FeatureKind::polygon;
+    for (std::uint32_t i = f.part_begin; i < f.part_end; ++i) {
+        std::vector<XY> ring;
+        for (std::uint32_t k = d.parts[i].begin; k < d.parts[i].end; ++k) {
+            const XY p = xy(d.pts[k]);
+            if (ring.empty() || !(ring.back() == p)) {
+                ring.push_back(p);
+                shape.box.add(p);
+            }
+        }
+        if (ring.size() >= 2) {
+            shape.rings.push_back(std::move(ring));
+        }
+    }
+    return shape;
 }
 
-int key_field_index(OGRLayer& layer, const std::string& path, const std::string& key_field)
+Layer layer_of(const assess::LayerData& d, const std::string& path, const CrsInfo& crs)
 {
-    OGRFeatureDefn* defn = layer.GetLayerDefn();
-    if (key_field.empty()) return defn->GetFieldIndex("orig_fid");
-    const int index = defn->GetFieldIndex(key_field.c_str());
-    if (index < 0) {
-        std::string fields;
-        for (int i = 0; i < defn->GetFieldCount(); ++i) fields += (i ? ", " : "") + std::string(defn->GetFieldDefn(i)->GetNameRef());
-        throw argument_error(path + " (layer '" + layer.GetName() + "'): --key: no field '" + key_field +
-                             "'; fields: " + (fields.empty() ? "none" : fields));
+    Layer layer;
+    layer.path = path;
+    layer.name = d.name;
+    layer.crs = crs;
+    for (const assess::Feature& f : d.features) {
+        Shape shape = shape_of(d, f);
+        if (!shape.rings.empty()) {
+            layer.extent.add(shape.box);
+            layer.shapes.push_back(std::move(shape));
+        }
     }
-    return index;
+    return layer;
+}
+
+struct Opened {
+    GDALDatasetUniquePtr dataset;
+    OGRLayer* layer = nullptr;
+};
+
+Opened open_layer(const std::string& path, const std::string& name, const std::optional<Box>& bbox)
+{
+    Opened opened{open_input(path), nullptr};
+    opened.layer = &select_layer(*opened.dataset, path, name);
+    if (bbox) {
+        opened.layer->SetSpatialFilterRect(bbox->xmin, bbox->ymin, bbox->xmax, bbox->ymax);
+    }
+    return opened;
+}
+
+std::optional<double> resolve_tolerance(const RenderOptions& o, OGRLayer& layer, const std::optional<assess::SnapReport>& report)
+{
+    std::optional<double> t = tolerance_option(o.tolerance, o.tolerance_m, layer);
+    if (!t && report) {
+        t = report->tolerance;
+    }
+    if (o.worst > 0 && !t) {
+        throw argument_error("--worst needs --tolerance T or --tolerance-m M (or a --report that records it): sites are ranked in multiples of T");
+    }
+    return t;
+}
+
+assess::LayerPair read_data(const RenderOptions& o, Opened& in)
+{
+    try {
+        if (o.snapped.empty()) {
+            return assess::read_single({*in.dataset, *in.layer}, o.key);
+        }
+        Opened out = open_layer(o.snapped, o.layer_b, o.bbox);
+        return assess::read_pair({*in.dataset, *in.layer}, {*out.dataset, *out.layer}, o.key);
+    } catch (const std::invalid_argument& e) {
+        throw argument_error(e.what());
+    }
 }
 
 } // namespace
 
-Layer read_layer(const std::string& path, const std::string& layer_name, const std::optional<Box>& bbox,
-                 const std::string& key_field)
+Inputs read_inputs(const RenderOptions& o)
 {
-    GDALDatasetUniquePtr dataset = open_input(path);
-    OGRLayer& ogr_layer = select_layer(*dataset, path, layer_name);
-    Layer layer;
-    layer.path = path;
-    layer.name = ogr_layer.GetName();
-    layer.crs = crs_info(ogr_layer.GetSpatialRef());
-    if (bbox) ogr_layer.SetSpatialFilterRect(bbox->xmin, bbox->ymin, bbox->xmax, bbox->ymax);
-    const int key_index = key_field_index(ogr_layer, path, key_field);
-    ScopedErrorCapture capture; // unreadable features are skipped, not printed
-    ogr_layer.ResetReading();
-    for (OGRFeatureUniquePtr feature(ogr_layer.GetNextFeature()); feature; feature.reset(ogr_layer.GetNextFeature())) {
-        const OGRGeometry* geometry = feature->GetGeometryRef();
-        if (!geometry || geometry->IsEmpty()) continue;
-        Shape shape;
-        shape.key = key_of(*feature, key_index);
-        add_geometry(*geometry, shape);
-        if (shape.rings.empty()) continue;
-        for (const auto& ring : shape.rings)
-            for (XY p : ring) shape.box.add(p);
-        layer.extent.add(shape.box);
-        layer.shapes.push_back(std::move(shape));
+    Inputs inputs;
+    if (!o.report.empty()) {
+        inputs.report = assess::read_snap_report(o.report);
     }
-    std::stable_sort(layer.shapes.begin(), layer.shapes.end(),
-                     [](const Shape& a, const Shape& b) { return a.key < b.key; });
-    return layer;
+    Opened in = open_layer(o.input, o.layer_a, o.bbox);
+    inputs.tolerance = resolve_tolerance(o, *in.layer, inputs.report);
+    const CrsInfo crs = crs_info(in.layer->GetSpatialRef());
+    inputs.data = read_data(o, in);
+    inputs.in = layer_of(inputs.data.a, o.input, crs);
+    if (!o.snapped.empty()) {
+        inputs.out = layer_of(inputs.data.b, o.snapped, crs);
+    }
+    return inputs;
 }
 
 } // namespace trisnap::render

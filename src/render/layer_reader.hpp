@@ -1,19 +1,27 @@
 #pragma once
-// Reading one OGR layer into plain shapes for drawing and measuring.
+// Reading what render draws and measures: the layers through assess's reader (src/io's
+// LayerReader, as `snap` reads: interleaved for OSM), once, kept both as assess's flat arrays
+// (measured) and as shapes (drawn); the tolerance as `snap` resolves it; the snap report.
+#include "assess/layer_pair.hpp"
+#include "assess/snap_report.hpp"
+#include "render/render.hpp"
 #include "render/types.hpp"
 
 #include <optional>
-#include <string>
 
 namespace trisnap::render {
 
-/// Reads polygons and lines of layer `layer_name` (empty: the only polygon/line layer) of
-/// `path`; with `bbox`, only features whose envelope meets it (OGR spatial filter). Curves are
-/// linearised, points and empty geometries skipped, Z and M dropped. Shapes come back sorted
-/// by key: the integer field `key_field` when given, else the `orig_fid` field when present,
-/// else the FID. Points with a NaN or infinite coordinate are skipped. Throws io_error for an
-/// unreadable file, argument_error for an unknown or ambiguous layer or an unknown key field.
-Layer read_layer(const std::string& path, const std::string& layer_name, const std::optional<Box>& bbox,
-                 const std::string& key_field = "");
+struct Inputs {
+    assess::LayerPair data;   ///< IN and SNAPPED (IN twice without SNAPPED), for assess
+    Layer in;                 ///< drawn thin
+    std::optional<Layer> out; ///< drawn bold
+    std::optional<double> tolerance;
+    std::optional<assess::SnapReport> report;
+};
+
+/// Reads IN (and SNAPPED) with --bbox applied as an OGR spatial filter; T from --tolerance,
+/// --tolerance-m (converted on IN) or the report. Throws io_error for an unreadable file or a
+/// layer with no feature read, argument_error for an unknown or ambiguous layer or key field.
+Inputs read_inputs(const RenderOptions& options);
 
 } // namespace trisnap::render

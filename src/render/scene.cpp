@@ -1,17 +1,18 @@
 #include "render/scene.hpp"
 
+#include "io/tolerance.hpp"
 #include "render/clip.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
 namespace trisnap::render {
 namespace {
 
-constexpr double k_metres_per_degree = 6378137.0 * std::numbers::pi / 180.0; // on the equator
 constexpr double k_min_step_px = 0.35; // vertices closer than this to the last one are not drawn
 constexpr double k_clip_margin_px = 4; // clip edges fall outside the visible area (and strokes)
 
@@ -25,12 +26,29 @@ Style role_style(LayerRole role, bool overview = false)
     switch (role) {
     case LayerRole::input_thin: return {std::nullopt, Rgba{235, 110, 20}, 1.0};
     case LayerRole::output_bold: return {Rgba{110, 160, 215, 110}, Rgba{25, 55, 120}, overview ? 1.0 : 2.2};
+    case LayerRole::output_identity: return {std::nullopt, Rgba{25, 55, 120}, 2.2};
     case LayerRole::only_layer: return {Rgba{110, 160, 215, 110}, Rgba{25, 55, 120}, 0.8};
     }
     return {};
 }
 
-const char* role_class(LayerRole role) { return role == LayerRole::output_bold ? "out" : "in"; }
+const char* role_class(LayerRole role)
+{
+    const bool output = role == LayerRole::output_bold || role == LayerRole::output_identity;
+    return output ? "out" : "in";
+}
+
+/// A shape's style: lines are never filled; identity fills come from the shape.
+Style shape_style(const Shape& shape, LayerRole role, const Style& style)
+{
+    if (!shape.polygon) {
+        return {std::nullopt, style.stroke, style.width};
+    }
+    if (role == LayerRole::output_identity) {
+        return {identity_colour(shape.identity), style.stroke, style.width};
+    }
+    return style;
+}
 
 PixelRings shape_to_px(const Shape& shape, const View& view, bool clip)
 {
@@ -39,14 +57,20 @@ PixelRings shape_to_px(const Shape& shape, const View& view, bool clip)
     for (const auto& ring : shape.rings) {
         std::vector<XY> px;
         px.reserve(ring.size());
-        for (XY p : ring) px.push_back(view.to_px(p));
+        for (XY p : ring) {
+            px.push_back(view.to_px(p));
+        }
         px = drop_close_points(px, k_min_step_px);
         if (!clip) {
             rings.push_back(std::move(px));
         } else if (shape.polygon) {
-            if (auto clipped = clip_ring(px, limit); !clipped.empty()) rings.push_back(std::move(clipped));
+            if (auto clipped = clip_ring(px, limit); !clipped.empty()) {
+                rings.push_back(std::move(clipped));
+            }
         } else {
-            for (auto& piece : clip_line(px, limit)) rings.push_back(std::move(piece));
+            for (auto& piece : clip_line(px, limit)) {
+                rings.push_back(std::move(piece));
+            }
         }
     }
     return rings;
@@ -56,8 +80,11 @@ PixelRings shape_to_px(const Shape& shape, const View& view, bool clip)
 double round_down_nice(double v)
 {
     const double p = std::pow(10.0, std::floor(std::log10(v)));
-    for (double m : {5.0, 2.0, 1.0})
-        if (m * p <= v) return m * p;
+    for (double m : {5.0, 2.0, 1.0}) {
+        if (m * p <= v) {
+            return m * p;
+        }
+    }
     return p;
 }
 
@@ -83,16 +110,21 @@ View::View(const Box& world, const Box& px, double x_stretch) : m_px(px)
 double x_stretch_for(const CrsInfo& crs, const Box& world)
 {
     // Coordinates beyond ±90 in y are not latitudes, whatever the CRS says.
-    if (crs.kind != CrsInfo::Kind::geographic || world.height() > 60 || world.ymin < -90 || world.ymax > 90) return 1.0;
+    if (crs.kind != CrsInfo::Kind::geographic || world.height() > 60 || world.ymin < -90 || world.ymax > 90) {
+        return 1.0;
+    }
     const double lat = std::clamp(world.centre().y, -80.0, 80.0);
     return std::cos(lat * std::numbers::pi / 180.0);
 }
 
 double metres(const CrsInfo& crs, double units, double lat)
 {
-    if (crs.kind == CrsInfo::Kind::geographic)
-        return std::abs(lat) <= 90 ? units * k_metres_per_degree * std::cos(lat * std::numbers::pi / 180.0) : 0.0;
-    if (crs.kind == CrsInfo::Kind::projected) return units * crs.metres_per_unit;
+    if (crs.kind == CrsInfo::Kind::geographic) {
+        return std::abs(lat) <= 90 ? units * metres_per_degree(lat) : 0.0; // as --tolerance-m converts
+    }
+    if (crs.kind == CrsInfo::Kind::projected) {
+        return units * crs.metres_per_unit;
+    }
     return 0;
 }
 
@@ -102,12 +134,16 @@ std::size_t draw_layer(Canvas& canvas, const View& view, const Layer& layer, Lay
     const Style style = role_style(role, overview);
     std::size_t drawn = 0;
     for (const Shape& shape : layer.shapes) {
-        if (!shape.box.intersects(shown)) continue;
+        if (!shape.box.intersects(shown)) {
+            continue;
+        }
         const bool inside = shape.box.xmin >= shown.xmin && shape.box.xmax <= shown.xmax &&
                             shape.box.ymin >= shown.ymin && shape.box.ymax <= shown.ymax;
         PixelRings rings = shape_to_px(shape, view, !inside);
-        if (rings.empty()) continue;
-        canvas.path(rings, shape.polygon, shape.polygon ? style : Style{std::nullopt, style.stroke, style.width}, role_class(role));
+        if (rings.empty()) {
+            continue;
+        }
+        canvas.path(rings, shape.polygon, shape_style(shape, role, style), role_class(role));
         ++drawn;
     }
     return drawn;
@@ -116,7 +152,11 @@ std::size_t draw_layer(Canvas& canvas, const View& view, const Layer& layer, Lay
 Rgba kind_colour(SiteKind kind)
 {
     switch (kind) {
-    case SiteKind::collapse: return {210, 0, 150};
+    case SiteKind::missing: return {210, 0, 150};
+    case SiteKind::invalid: return {120, 0, 0};
+    case SiteKind::crossing: return {230, 120, 0};
+    case SiteKind::overlap: return {160, 90, 0};
+    case SiteKind::gap: return {0, 90, 220};
     case SiteKind::drift: return {220, 0, 0};
     case SiteKind::vertex_edge: return {130, 40, 200};
     case SiteKind::vertex_vertex: return {0, 150, 150};
@@ -128,7 +168,11 @@ Rgba kind_colour(SiteKind kind)
 const char* site_class(SiteKind kind)
 {
     switch (kind) {
-    case SiteKind::collapse: return "site-collapse";
+    case SiteKind::missing: return "site-missing";
+    case SiteKind::invalid: return "site-invalid";
+    case SiteKind::crossing: return "site-crossing";
+    case SiteKind::overlap: return "site-overlap";
+    case SiteKind::gap: return "site-gap";
     case SiteKind::drift: return "site-drift";
     case SiteKind::vertex_edge: return "site-vertex-edge";
     case SiteKind::vertex_vertex: return "site-vertex-vertex";
@@ -137,21 +181,79 @@ const char* site_class(SiteKind kind)
     return "site";
 }
 
+std::uint32_t identity_of(const std::string& key)
+{
+    std::uint32_t h = 2166136261u;
+    for (unsigned char c : key) {
+        h = (h ^ c) * 16777619u;
+    }
+    // MurmurHash3's finaliser: keys differing in one character land far apart in hue.
+    h ^= h >> 16;
+    h *= 0x85ebca6bu;
+    h ^= h >> 13;
+    h *= 0xc2b2ae35u;
+    h ^= h >> 16;
+    return h;
+}
+
+Rgba identity_colour(std::uint32_t identity)
+{
+    // Hue from the hash, and one of three lightnesses, pale enough for the outlines and the
+    // input on top to stay readable.
+    const double h = static_cast<double>(identity % 360u) / 60.0;
+    const double x = 1 - std::abs(std::fmod(h, 2.0) - 1);
+    const std::array<std::array<double, 3>, 6> sextant{{{1, x, 0}, {x, 1, 0}, {0, 1, x}, {0, x, 1}, {x, 0, 1}, {1, 0, x}}};
+    const auto& c = sextant[static_cast<std::size_t>(h) % 6];
+    const double base = 0.55 + 0.07 * static_cast<double>((identity >> 16) % 3);
+    const auto channel = [&](double v) { return static_cast<std::uint8_t>(std::lround(255 * (base + (0.97 - base) * v))); };
+    return {channel(c[0]), channel(c[1]), channel(c[2]), 170};
+}
+
 void draw_site_marker(Canvas& canvas, const View& view, const Site& site)
 {
-    const Style style{std::nullopt, kind_colour(site.kind), site.defect ? 2.0 : 1.2};
-    canvas.circle(view.to_px(site.at), site.kind == SiteKind::problem ? 5 : 7, style, site_class(site.kind));
+    const Style style{std::nullopt, kind_colour(site.kind), site.breach ? 2.0 : 1.2};
+    canvas.circle(view.to_px(xy(site.at)), site.kind == SiteKind::problem ? 5 : 7, style, site_class(site.kind));
+}
+
+void draw_site_label(Canvas& canvas, const View& view, const Site& site, std::size_t rank, std::vector<Box>& placed)
+{
+    const XY at = view.to_px(xy(site.at));
+    const std::string code = assess::site_code(site);
+    const std::string label = rank > 0 ? fmt::format("#{} {}", rank, code) : code;
+    const double width = Canvas::text_width(label, 1) + 2;
+    // Right of the marker, then below, above and left; a ranked site's label goes right when
+    // every side is taken, a code alone is left out then.
+    const std::array<XY, 4> corners{{{at.x + 8, at.y - 6}, {at.x + 8, at.y + 5}, {at.x + 8, at.y - 17}, {at.x - 8 - width, at.y - 6}}};
+    std::optional<Box> box;
+    for (XY c : corners) {
+        const Box candidate{c.x, c.y, c.x + width, c.y + 10};
+        if (!box && std::none_of(placed.begin(), placed.end(), [&](const Box& b) { return b.intersects(candidate); })) {
+            box = candidate;
+        }
+    }
+    if (!box && rank == 0) {
+        return;
+    }
+    if (!box) {
+        box = Box{corners[0].x, corners[0].y, corners[0].x + width, corners[0].y + 10};
+    }
+    placed.push_back(*box);
+    canvas.rect(*box, {Rgba{255, 255, 255, 220}, std::nullopt, 1}, "label");
+    canvas.text({box->xmin + 1, box->ymax - 1}, label, 1, kind_colour(site.kind), Anchor::start);
 }
 
 void draw_site_focus(Canvas& canvas, const View& view, const Site& site)
 {
     const Rgba colour = kind_colour(site.kind);
-    const XY a = view.to_px(site.at), b = view.to_px(site.other);
+    const XY a = view.to_px(xy(site.at));
+    const XY b = view.to_px(xy(site.other));
     double radius = distance(a, b) / 2 + 10;
     XY centre{(a.x + b.x) / 2, (a.y + b.y) / 2};
-    if (site.kind == SiteKind::collapse && !site.extent.empty()) {
-        const XY lo = view.to_px({site.extent.xmin, site.extent.ymin}), hi = view.to_px({site.extent.xmax, site.extent.ymax});
+    if (site.kind == SiteKind::missing && !site.extent.empty()) {
+        const XY lo = view.to_px({site.extent.xmin, site.extent.ymin});
+        const XY hi = view.to_px({site.extent.xmax, site.extent.ymax});
         radius = std::max(radius, distance(lo, hi) / 2 + 8);
+        centre = {(lo.x + hi.x) / 2, (lo.y + hi.y) / 2};
     }
     if (!(a == b)) {
         canvas.path({{a, b}}, false, {std::nullopt, colour, 1.5}, "link");
@@ -183,7 +285,7 @@ void draw_scale_bar(Canvas& canvas, const View& view, const CrsInfo& crs)
     canvas.text({at.x, at.y - 8}, label, 1, k_ink, Anchor::start);
 }
 
-void draw_legend(Canvas& canvas, XY at, bool two_layers, const std::vector<SiteKind>& kinds)
+void draw_legend(Canvas& canvas, XY at, bool two_layers, bool identity, const std::vector<SiteKind>& kinds)
 {
     double x = at.x;
     const double y = at.y;
@@ -191,10 +293,13 @@ void draw_legend(Canvas& canvas, XY at, bool two_layers, const std::vector<SiteK
         canvas.text({x, y + 4}, text, 1, k_ink, Anchor::start);
         x += Canvas::text_width(text, 1) + 16;
     };
-    const Style first = role_style(two_layers ? LayerRole::output_bold : LayerRole::only_layer);
+    Style first = role_style(two_layers ? LayerRole::output_bold : LayerRole::only_layer);
+    if (identity) {
+        first.fill = identity_colour(7);
+    }
     canvas.path({{{x, y - 5}, {x + 22, y - 5}, {x + 22, y + 5}, {x, y + 5}}}, true, first, "legend");
     x += 28;
-    label(two_layers ? "output (snapped)" : "input");
+    label(two_layers ? (identity ? "output (fill: one colour per feature)" : "output (snapped)") : "input");
     if (two_layers) {
         canvas.path({{{x, y}, {x + 22, y}}}, false, role_style(LayerRole::input_thin), "legend");
         x += 28;
@@ -203,7 +308,7 @@ void draw_legend(Canvas& canvas, XY at, bool two_layers, const std::vector<SiteK
     for (SiteKind kind : kinds) {
         canvas.circle({x + 7, y}, 6, {std::nullopt, kind_colour(kind), 2}, "legend");
         x += 18;
-        label(kind_name(kind));
+        label(assess::site_kind_name(kind));
     }
 }
 

@@ -27,7 +27,10 @@ private:
 /// cos(latitude of the box centre) for geographic layers whose box is less than 60° tall, else 1.
 double x_stretch_for(const CrsInfo& crs, const Box& world);
 
-enum class LayerRole { input_thin, output_bold, only_layer };
+/// input_thin: orange lines; output_bold: blue outline, light fill; output_identity: blue
+/// outline, each feature filled with its identity colour (panels: who holds which area);
+/// only_layer: IN drawn alone.
+enum class LayerRole { input_thin, output_bold, output_identity, only_layer };
 
 /// Draws the shapes of `layer` meeting the view; returns how many were drawn. `overview`
 /// draws thinner lines (features are a few pixels wide there).
@@ -37,8 +40,19 @@ Rgba kind_colour(SiteKind kind);
 /// "site-collapse", "site-drift", ...: the SVG class of a site's marker.
 const char* site_class(SiteKind kind);
 
+/// FNV-1a of a feature's matching key: the same identity for a feature and its snapped self.
+std::uint32_t identity_of(const std::string& key);
+
+/// A light colour from a feature's identity (a hash of its matching key), the same for a
+/// feature and its snapped self, different for neighbours with near certainty.
+Rgba identity_colour(std::uint32_t identity);
+
 /// A small fixed-size circle (overview): thick for contract breaches.
 void draw_site_marker(Canvas& canvas, const View& view, const Site& site);
+/// The rank and code of a worst site beside its marker ("#1 drift"; rank 0: the code alone), on
+/// a white ground, on the first side of the marker where it covers no label in `placed` (then
+/// added to it).
+void draw_site_label(Canvas& canvas, const View& view, const Site& site, std::size_t rank, std::vector<Box>& placed);
 /// A panel's site: the pair joined by a line, circled with room to spare.
 void draw_site_focus(Canvas& canvas, const View& view, const Site& site);
 
@@ -46,7 +60,8 @@ void draw_site_focus(Canvas& canvas, const View& view, const Site& site);
 void draw_scale_bar(Canvas& canvas, const View& view, const CrsInfo& crs);
 
 /// One row of legend entries starting at `at`: input, output, then the site kinds present.
-void draw_legend(Canvas& canvas, XY at, bool two_layers, const std::vector<SiteKind>& kinds);
+/// `identity`: the output is filled by identity (say so instead of showing one fill).
+void draw_legend(Canvas& canvas, XY at, bool two_layers, bool identity, const std::vector<SiteKind>& kinds);
 
 /// The length in metres of `units` layer units at latitude `lat` (0 when unknown).
 double metres(const CrsInfo& crs, double units, double lat);

@@ -15,7 +15,9 @@ void Box::add(XY p)
 
 void Box::add(const Box& b)
 {
-    if (b.empty()) return;
+    if (b.empty()) {
+        return;
+    }
     add(XY{b.xmin, b.ymin});
     add(XY{b.xmax, b.ymax});
 }
@@ -35,7 +37,9 @@ double distance_to_segment(XY p, XY a, XY b, XY* nearest)
     double t = len2 > 0 ? ((p.x - a.x) * dx + (p.y - a.y) * dy) / len2 : 0.0;
     t = std::clamp(t, 0.0, 1.0);
     const XY q{a.x + t * dx, a.y + t * dy};
-    if (nearest) *nearest = q;
+    if (nearest) {
+        *nearest = q;
+    }
     return distance(p, q);
 }
 

@@ -36,10 +36,11 @@ struct Box {
 };
 
 /// One feature: polygon rings (closed, last point == first) or lines (open), in layer units.
-/// `key` is the FID, or the `orig_fid` field when the layer has one (Shapefile/FlatGeobuf
-/// outputs of `trisnap snap`), so input and output features match.
+/// `identity` is a hash of the key that matches input and output features (FID, `orig_fid` or
+/// --key, as assess matches them), so a feature and its snapped self get the same colour.
 struct Shape {
-    std::int64_t key = -1;
+    std::int64_t fid = -1;
+    std::uint32_t identity = 0;
     bool polygon = true;
     std::vector<std::vector<XY>> rings;
     Box box;
@@ -55,13 +56,14 @@ struct CrsInfo {
 struct Layer {
     std::string path;
     std::string name;
-    std::vector<Shape> shapes; ///< sorted by key
+    std::vector<Shape> shapes; ///< in layer order
     CrsInfo crs;
     Box extent; ///< of the shapes read
 };
 
 double distance(XY a, XY b);
-/// Distance from p to segment ab; `nearest` receives the closest point on ab.
+/// Distance from p to segment ab (the PNG rasteriser's antialiasing); `nearest` receives the
+/// closest point on ab.
 double distance_to_segment(XY p, XY a, XY b, XY* nearest = nullptr);
 
 } // namespace trisnap::render

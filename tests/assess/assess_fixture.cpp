@@ -36,8 +36,14 @@ GDALDatasetUniquePtr make_layer(const std::vector<Item>& items, OGRwkbGeometryTy
 AssessReport assess_items(const std::vector<Item>& in, const std::vector<Item>& out, double tolerance,
                           const std::string& key)
 {
-    GDALDatasetUniquePtr a = make_layer(in), b = make_layer(out);
-    return assess_layers(*a->GetLayer(0), *b->GetLayer(0), AssessOptions{tolerance, key, 20});
+    return assess_items(in, out, AssessOptions{tolerance, key, 20});
+}
+
+AssessReport assess_items(const std::vector<Item>& in, const std::vector<Item>& out, const AssessOptions& options)
+{
+    GDALDatasetUniquePtr a = make_layer(in);
+    GDALDatasetUniquePtr b = make_layer(out);
+    return assess_layers({*a, *a->GetLayer(0)}, {*b, *b->GetLayer(0)}, options);
 }
 
 std::string square(double x0, double y0, double s)

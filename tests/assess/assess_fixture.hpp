@@ -28,6 +28,9 @@ GDALDatasetUniquePtr make_layer(const std::vector<Item>& items, OGRwkbGeometryTy
 AssessReport assess_items(const std::vector<Item>& in, const std::vector<Item>& out, double tolerance,
                           const std::string& key = "");
 
+/// assess_layers on two in-memory layers, with every option (e.g. a snap report's excuses).
+AssessReport assess_items(const std::vector<Item>& in, const std::vector<Item>& out, const AssessOptions& options);
+
 /// A square as WKT.
 std::string square(double x0, double y0, double size);
 

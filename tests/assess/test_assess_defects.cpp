@@ -55,7 +55,7 @@ TEST(AssessDefects, OverlapOfKnownArea)
     EXPECT_NEAR(r.overlaps[0].x, 1.5, k_eps);
     EXPECT_NEAR(r.overlaps[0].y, 1.0, k_eps);
     EXPECT_EQ(r.n_overlaps_new, 1);
-    EXPECT_EQ(r.overlaps[0].text, "new");
+    EXPECT_TRUE(r.overlaps[0].is_new);
 }
 
 TEST(AssessDefects, NestedPolygonWithoutBoundaryContactOverlaps)

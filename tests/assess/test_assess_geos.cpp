@@ -179,7 +179,8 @@ TEST(AssessGeos, FindsWhatAnIndependentGeosCountFinds)
     Geos geos;
     const double t = 2e-5; // about 2 m: coarse enough that independent per-feature snapping breaks things
     Layers layers = snap_with_geos(geos, *path, t);
-    const AssessReport r = assess_layers(*layers.in->GetLayer(0), *layers.out->GetLayer(0), AssessOptions{t, "", 20});
+    const AssessReport r = assess_layers({*layers.in, *layers.in->GetLayer(0)}, {*layers.out, *layers.out->GetLayer(0)},
+                                         AssessOptions{t, "", 20});
     ASSERT_GT(r.n_in, 100);
 
     GeomList geoms = read_all(geos, layers.out_wkt), inputs = read_all(geos, layers.in_wkt);
@@ -284,7 +285,7 @@ TEST(AssessRealData, SeparationsMatchBruteForce)
     ASSERT_TRUE(ds);
     OGRLayer& layer = *ds->GetLayer(0);
     layer.SetSpatialFilterRect(1.50, 42.49, 1.53, 42.51);
-    const AssessReport r = assess_layers(layer, layer, AssessOptions{1e-6, "", 20});
+    const AssessReport r = assess_layers({*ds, layer}, {*ds, layer}, AssessOptions{1e-6, "", 20});
     std::vector<std::pair<double, double>> v;
     std::vector<std::array<double, 4>> s;
     collect(layer, v, s);

@@ -1,11 +1,16 @@
 // Scale smoke: a 316 x 316 grid of unit squares (99,856 polygons) against a copy with three known
-// defects. No timing assertion (speed lives in benchmarks); the counts must be exact.
+// defects, and 10,000 stacked copies of one square against Andorra (5·10^7 overlapping pairs).
+// The counts must be exact; the only time bound is a CPU bound 30x above what it takes, there
+// to catch a return of the per-pair (quadratic) overlap test.
 #include "assess_fixture.hpp"
+#include "test_data.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
+
+#include <ctime>
 
 namespace trisnap::test {
 namespace {
@@ -41,6 +46,36 @@ TEST(AssessScale, HundredThousandPolygonGrid)
     EXPECT_DOUBLE_EQ(*r.min_vertex_vertex, 0.5);
     EXPECT_GT(r.n_crossings, 0); // collinear overlaps along the shifted square's top and bottom
     EXPECT_NEAR(r.area_change, -1.0 / (n * n), 1e-12);
+}
+
+TEST(AssessScale, TenThousandStackedSquaresAgainstAndorra)
+{
+    const auto path = shared_data("snapoly_andorra/andorra.gpkg");
+    if (!path) {
+        GTEST_SKIP() << "../shared/data/snapoly_andorra/andorra.gpkg is absent";
+    }
+    GDALAllRegister();
+    GDALDatasetUniquePtr andorra(GDALDataset::Open(path->c_str(), GDAL_OF_VECTOR));
+    ASSERT_TRUE(andorra);
+    constexpr std::int64_t n = 10000;
+    std::vector<Item> stacked;
+    for (std::int64_t fid = 1; fid <= n; ++fid) {
+        stacked.push_back({fid, "POLYGON((1.5 42.5,1.51 42.5,1.51 42.51,1.5 42.51,1.5 42.5))"});
+    }
+    GDALDatasetUniquePtr squares = make_layer(stacked);
+    const LayerSource in{*andorra, *andorra->GetLayer(0)};
+    const AssessReport input = assess_layers(in, in, AssessOptions{1e-6, "", 20});
+    const std::clock_t start = std::clock();
+    const AssessReport r = assess_layers(in, {*squares, *squares->GetLayer(0)}, AssessOptions{1e-6, "", 20});
+    const double cpu = static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
+    EXPECT_EQ(r.n_overlaps, n * (n - 1) / 2);
+    EXPECT_NEAR(r.overlap_area, static_cast<double>(n * (n - 1) / 2) * 1e-4, 1e-6);
+    EXPECT_GT(input.n_overlaps, 0) << "Andorra's landuse overlaps itself";
+    EXPECT_EQ(r.n_overlaps_new, r.n_overlaps - input.n_overlaps)
+        << "every pair of Andorra features that overlapped has stacked outputs that overlap: not new";
+    EXPECT_EQ(r.overlaps.size(), 20u);
+    EXPECT_EQ(r.overlaps.back().fid_a, 1) << "the 20 first pairs by FID among the new ones";
+    EXPECT_LT(cpu, 30.0) << "one exact test per pair took > 1000 s of CPU here";
 }
 
 /// A jittered grid: interior corners moved by up to 0.3, so boxes of neighbours overlap.

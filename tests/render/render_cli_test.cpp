@@ -9,9 +9,13 @@
 #include <cpl_minixml.h>
 #include <gtest/gtest.h>
 
+#include <cctype>
+#include <cstdio>
 #include <fstream>
+#include <sstream>
 #include <map>
 #include <regex>
+#include <set>
 
 namespace trisnap::test {
 namespace {
@@ -109,7 +113,7 @@ TEST(RenderCli, OverviewDrawsEveryFeatureAndMarksEachDefect)
     Counts c = svg_counts(svg);
     EXPECT_EQ(c["path.in"], 6);
     EXPECT_EQ(c["path.out"], 5);
-    EXPECT_EQ(c["circle.site-collapse"], 1);
+    EXPECT_EQ(c["circle.site-missing"], 1);
     EXPECT_EQ(c["circle.site-drift"], 1);
     EXPECT_EQ(c["circle.site-vertex-vertex"], 2);
     EXPECT_EQ(c["circle.site-vertex-edge"], 4);
@@ -117,6 +121,29 @@ TEST(RenderCli, OverviewDrawsEveryFeatureAndMarksEachDefect)
     EXPECT_EQ(c["rect.frame"], 1);
     EXPECT_GE(c["rect.scale"], 2);
     EXPECT_NE(file_bytes(svg).find("fill-rule=\"evenodd\""), std::string::npos);
+}
+
+TEST(RenderCli, OverviewNumbersTheWorstSitesAndDrawsTheInputOnTop)
+{
+    Fixture f;
+    const std::string svg = f.dir.path("overview.svg");
+    const RunOutput run = run_trisnap(f.dir, {"render", f.in, f.out, "-o", svg, "--tolerance", "1"});
+    ASSERT_EQ(run.code, 0) << run.err;
+    const std::string text = file_bytes(svg);
+    // The same ranking as `trisnap assess`: the breach nobody explains first, kinds in turn.
+    EXPECT_NE(run.out.find("  #1 missing: lost, size 0.15 T, fid 3 at 40.15, 0.15\n"), std::string::npos) << run.out;
+    EXPECT_NE(run.out.find("  #2 drift 3 T (> 2T), fid 2 at 33, 10\n"), std::string::npos) << run.out;
+    EXPECT_NE(text.find(">#1 missing</text>"), std::string::npos) << "labelled with rank and code";
+    EXPECT_NE(text.find(">#2 drift</text>"), std::string::npos);
+    Counts c = svg_counts(svg);
+    int markers = 0;
+    for (const auto& [element, n] : c) {
+        markers += element.rfind("circle.site-", 0) == 0 ? n : 0;
+    }
+    EXPECT_EQ(markers, 8);
+    EXPECT_EQ(c["rect.label"], markers) << "every marker named: the ranked ones by rank and code, the rest by code";
+    EXPECT_NE(text.find(">vertex-vertex</text>"), std::string::npos);
+    EXPECT_LT(text.find("class=\"out\""), text.find("class=\"in\"")) << "the input is drawn over the output";
 }
 
 TEST(RenderCli, OverviewWithoutTheSnappedLayerDrawsTheInputOnly)
@@ -143,19 +170,55 @@ TEST(RenderCli, WorstMakesOnePanelPerSite)
     Counts c = svg_counts(svg);
     EXPECT_EQ(c["rect.frame"], 3);
     EXPECT_EQ(c["clipPath."], 3);
-    EXPECT_EQ(c["circle.site-collapse"], 1);
+    EXPECT_EQ(c["circle.site-missing"], 1);
     EXPECT_EQ(c["circle.site-drift"], 1);
     EXPECT_EQ(c["circle.site-vertex-edge"], 1);
-    EXPECT_NE(file_bytes(svg).find("collapse: lost, width 0.15 T"), std::string::npos) << "2A/P of a 0.3 square";
-    EXPECT_NE(file_bytes(svg).find("drift 3.00 T"), std::string::npos);
+    const std::string text = file_bytes(svg);
+    EXPECT_NE(text.find("#1 vertex-edge 0.4 T (&lt; T/2)"), std::string::npos) << "the breach the report does not explain";
+    EXPECT_NE(text.find("#2 missing: lost, size 0.15 T"), std::string::npos) << "2A/P of a 0.3 square";
+    EXPECT_NE(text.find("excused by 201 collapsed_polygon"), std::string::npos);
+    EXPECT_NE(text.find("#3 drift 3 T (&gt; 2T)"), std::string::npos);
+    EXPECT_NE(text.find("excused by 206 drift_exceeded"), std::string::npos);
 
-    // Four distinct places only: the other close pairs sit next to the ones shown.
+    // Three distinct sites only: the vertex-vertex pairs are features 6 and 7 again, shown by
+    // the vertex-edge panel; no feature is shown twice, nothing unchanged gets a panel.
     const RunOutput more = run_trisnap(f.dir, {"render", f.in, f.out, "-o", svg, "--worst", "6", "--tolerance", "1"});
     ASSERT_EQ(more.code, 0) << more.err;
-    EXPECT_NE(more.out.find("only 4 distinct sites"), std::string::npos) << more.out;
+    EXPECT_NE(more.out.find("only 3 distinct sites"), std::string::npos) << more.out;
     Counts m = svg_counts(svg);
-    EXPECT_EQ(m["rect.frame"], 4);
-    EXPECT_EQ(m["circle.site-vertex-vertex"], 1) << "the pair at the other end of the gap";
+    EXPECT_EQ(m["rect.frame"], 3);
+    EXPECT_EQ(m["circle.site-vertex-vertex"], 0);
+}
+
+TEST(RenderCli, PanelsFillEachFeatureWithItsOwnColour)
+{
+    Fixture f;
+    const std::string svg = f.dir.path("worst.svg");
+    const RunOutput run = run_trisnap(f.dir, {"render", f.in, f.out, "-o", svg, "--worst", "3", "--tolerance", "1"});
+    ASSERT_EQ(run.code, 0) << run.err;
+    // The drift panel shows feature 2, the vertex-edge panel features 6 and 7: three fills.
+    const std::string text = file_bytes(svg);
+    std::set<std::string> fills;
+    const std::regex out_path("<g fill=\"(#[0-9a-f]{6})\"[^>]*>\n<path class=\"out\"");
+    for (std::sregex_iterator it(text.begin(), text.end(), out_path), end; it != end; ++it) {
+        fills.insert((*it)[1].str());
+    }
+    EXPECT_EQ(fills.size(), 3u) << "one colour per feature";
+    EXPECT_NE(text.find("one colour per feature"), std::string::npos) << "the legend says so";
+}
+
+TEST(RenderCli, NothingChangedNoPanel)
+{
+    // The input drawn against itself: its breaches (the 0.3 square's own edges, the pair 0.4
+    // apart) get their panels; the rest is the same on both sides, so no panel is wasted on it.
+    Fixture f;
+    const std::string svg = f.dir.path("same.svg");
+    const RunOutput run = run_trisnap(f.dir, {"render", f.in, f.in, "-o", svg, "--worst", "5", "--tolerance", "1"});
+    ASSERT_EQ(run.code, 0) << run.err;
+    EXPECT_NE(run.out.find("2 panels"), std::string::npos) << run.out;
+    EXPECT_NE(run.out.find("  #1 vertex-edge 0.3 T (< T/2), fid 3"), std::string::npos) << run.out;
+    EXPECT_NE(run.out.find("  #2 vertex-vertex 0.4 T (< T), fid 6 / 7"), std::string::npos) << run.out;
+    EXPECT_NE(run.out.find("only 2 distinct sites"), std::string::npos) << run.out;
 }
 
 TEST(RenderCli, KeyFieldMatchesFeaturesWhoseFidsDiffer)
@@ -166,16 +229,16 @@ TEST(RenderCli, KeyFieldMatchesFeaturesWhoseFidsDiffer)
     write_layer(out, {{5, "POLYGON((20 0,30 0,33 10,20 10,20 0))"}, {6, sq(0, 0, 10, 10)}}, {2, 1});
     const RunOutput by_fid = run_trisnap(dir, {"render", in, out, "-o", svg, "--tolerance", "1"});
     ASSERT_EQ(by_fid.code, 0) << by_fid.err;
-    EXPECT_EQ(svg_counts(svg)["circle.site-collapse"], 2) << "FIDs 1, 2 have no output";
+    EXPECT_EQ(svg_counts(svg)["circle.site-missing"], 2) << "FIDs 1, 2 have no output";
     const RunOutput by_key = run_trisnap(dir, {"render", in, out, "-o", svg, "--tolerance", "1", "--key", "src"});
     ASSERT_EQ(by_key.code, 0) << by_key.err;
     Counts c = svg_counts(svg);
-    EXPECT_EQ(c["circle.site-collapse"], 0);
+    EXPECT_EQ(c["circle.site-missing"], 0);
     EXPECT_EQ(c["circle.site-drift"], 1);
-    EXPECT_NE(by_key.out.find("worst 3.00 T (fid 2)"), std::string::npos) << by_key.out;
+    EXPECT_NE(by_key.out.find("#1 drift 3 T (> 2T), fid 2 / 5 at 33, 10"), std::string::npos) << "input 2, output 5" << by_key.out;
     const RunOutput bad = run_trisnap(dir, {"render", in, out, "-o", svg, "--key", "nope"});
     EXPECT_EQ(bad.code, 2);
-    EXPECT_NE(bad.err.find("--key: no field 'nope'; fields: src"), std::string::npos) << bad.err;
+    EXPECT_NE(bad.err.find("--key: layer 'shapes' has no field 'nope'; fields: src"), std::string::npos) << bad.err;
 }
 
 TEST(RenderCli, PngHasInkOnFeaturesAndBackgroundElsewhere)
@@ -257,6 +320,62 @@ TEST(RenderCli, ErrorsAreOneLineWithTheRightExitCode)
         EXPECT_EQ(run.err.rfind("trisnap: error: ", 0), 0u) << run.err;
         EXPECT_EQ(run.out, "") << what;
     }
+}
+
+/// The "#k ..." lines of a command's stdout (assess's table or render's summary), from '#' on.
+std::vector<std::string> ranked_lines(const std::string& out)
+{
+    std::vector<std::string> lines;
+    std::istringstream in(out);
+    for (std::string line; std::getline(in, line);) {
+        const std::size_t hash = line.find('#');
+        if (hash != std::string::npos && hash + 1 < line.size() && std::isdigit(static_cast<unsigned char>(line[hash + 1]))) {
+            lines.push_back(line.substr(hash));
+        }
+    }
+    return lines;
+}
+
+TEST(RenderCli, RenderAndAssessNameTheSameWorstSites)
+{
+    const std::string src = std::string(TRISNAP_SOURCE_DIR) + "/data/delft_partition_sample.gpkg";
+    TempDir dir;
+    const std::string out = dir.path("out.gpkg"), report = dir.path("snap.json");
+    ASSERT_EQ(run_trisnap(dir, {"snap", src, out, "--tolerance", "0.05", "--report", report, "-q"}).code, 0);
+    const RunOutput assess = run_trisnap(dir, {"assess", src, out, "--report", report});
+    ASSERT_EQ(assess.code, 0) << assess.err;
+    const RunOutput render = run_trisnap(dir, {"render", src, out, "-o", dir.path("w.png"), "--worst", "5", "--report", report});
+    ASSERT_EQ(render.code, 0) << render.err;
+    const std::vector<std::string> listed = ranked_lines(assess.out);
+    ASSERT_EQ(listed.size(), 5u) << assess.out;
+    EXPECT_EQ(ranked_lines(render.out), listed) << render.out;
+    // The worst is the thin part of feature 170 that collapsed (30.7 T, explained by its codes),
+    // not the 2.51 T vertex of feature 459 render found when it measured vertices only.
+    EXPECT_EQ(listed[0].rfind("#1 drift 30.7 T (> 2T), fid 170 at ", 0), 0u) << listed[0];
+    EXPECT_NE(listed[0].find("excused by 204 hole_removed, 209 thin_part_collapsed"), std::string::npos) << listed[0];
+}
+
+TEST(RenderCli, OsmPbfIsReadAsSnapReadsIt)
+{
+    const auto pbf = trisnap::shared_data("osm_small_extracts/andorra_graphhopper_2013.osm.pbf");
+    if (!pbf) {
+        GTEST_SKIP() << "osm_small_extracts/andorra_graphhopper_2013.osm.pbf is not in ../shared/data";
+    }
+    TempDir dir;
+    const std::string out = dir.path("out.gpkg"), report = dir.path("snap.json"), svg = dir.path("o.svg");
+    ASSERT_EQ(run_trisnap(dir, {"snap", *pbf, out, "--layer", "multipolygons", "--tolerance-m", "0.05", "--report", report, "-q"}).code, 0);
+    const RunOutput run = run_trisnap(dir, {"render", *pbf, out, "--layer-a", "multipolygons", "-o", svg, "--tolerance-m", "0.05"});
+    ASSERT_EQ(run.code, 0) << run.err;
+    const nlohmann::json snap = read_json(report);
+    const std::string text = file_bytes(svg);
+    const auto n = snap["counts"]["input"].get<int>();
+    EXPECT_NE(text.find(std::to_string(n) + " features in, " + std::to_string(n) + " out"), std::string::npos)
+        << "every feature of the .osm.pbf read, interleaved, as snap reads them";
+    char t[32];
+    std::snprintf(t, sizeof t, "T = %.6g deg", snap["config"]["tolerance_layer_units"].get<double>());
+    EXPECT_NE(text.find(t), std::string::npos) << "--tolerance-m converted as snap converts it: " << t;
+    EXPECT_EQ(svg_counts(svg)["path.in"], n);
+    EXPECT_NE(run.out.find("  contract holds"), std::string::npos) << run.out;
 }
 
 TEST(RenderCli, AndorraSnappedWorstSixGivesSixPanels)

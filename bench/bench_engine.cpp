@@ -40,7 +40,7 @@ constexpr std::uint64_t degenerate_seed = 5;
 
 constexpr double andorra_t = 1e-6; // degrees, about 10 cm at 42.5 N
 
-enum class Timed { whole_run, triangulate_phase, snap_phase };
+enum class Timed { whole_run, triangulate_phase, snap_phase, label_phase, extract_phase };
 
 bool env_is_set(const char* name) {
     const char* value = std::getenv(name);
@@ -137,6 +137,22 @@ void report(benchmark::State& state, const SnapStats& sum, std::size_t problems)
     state.SetComplexityN(static_cast<std::int64_t>(vertices));
 }
 
+/// The engine's own stopwatch for one phase of a call.
+double phase_seconds(const SnapStats& stats, Timed timed) {
+    switch (timed) {
+    case Timed::triangulate_phase:
+        return stats.seconds_triangulate;
+    case Timed::snap_phase:
+        return stats.seconds_snap;
+    case Timed::label_phase:
+        return stats.seconds_label;
+    case Timed::extract_phase:
+        return stats.seconds_extract;
+    default:
+        return 0.0;
+    }
+}
+
 /// Runs snap() on `features` at `t` for every iteration; `timed` picks what the reported time is.
 void run_snap(benchmark::State& state, const std::vector<Feature>& features, double t, Timed timed) {
     const SnapOptions options = options_at(t);
@@ -145,10 +161,8 @@ void run_snap(benchmark::State& state, const std::vector<Feature>& features, dou
     for (auto _ : state) {
         SnapResult result = snap(features, options);
         benchmark::DoNotOptimize(result.features.data());
-        if (timed == Timed::triangulate_phase)
-            state.SetIterationTime(result.stats.seconds_triangulate);
-        else if (timed == Timed::snap_phase)
-            state.SetIterationTime(result.stats.seconds_snap);
+        if (timed != Timed::whole_run)
+            state.SetIterationTime(phase_seconds(result.stats, timed));
         sum += result.stats;
         problems += result.problems.size();
     }
@@ -167,17 +181,35 @@ void bm_snap_only(benchmark::State& state) {
     run_snap(state, coverage(state.range(0)), coverage_t, Timed::snap_phase);
 }
 
-void bm_snap_near_degenerate(benchmark::State& state) {
-    run_snap(state, near_degenerate(state.range(0)), degenerate_t, Timed::whole_run);
+void bm_label_only(benchmark::State& state) {
+    run_snap(state, coverage(state.range(0)), coverage_t, Timed::label_phase);
 }
 
-void bm_snap_andorra(benchmark::State& state) {
+void bm_extract_only(benchmark::State& state) {
+    run_snap(state, coverage(state.range(0)), coverage_t, Timed::extract_phase);
+}
+
+/// Andorra, timed as `timed` says; skipped when the data set is absent.
+void run_andorra(benchmark::State& state, Timed timed) {
     const RealLayer& layer = andorra();
     if (!layer.error.empty()) {
         state.SkipWithError(layer.error.c_str());
         return;
     }
-    run_snap(state, layer.features, andorra_t, Timed::whole_run);
+    run_snap(state, layer.features, andorra_t, timed);
+}
+
+/// Andorra, one phase of whole calls (state.range(0) is a Timed value).
+void bm_andorra_phase(benchmark::State& state) {
+    run_andorra(state, static_cast<Timed>(state.range(0)));
+}
+
+void bm_snap_near_degenerate(benchmark::State& state) {
+    run_snap(state, near_degenerate(state.range(0)), degenerate_t, Timed::whole_run);
+}
+
+void bm_snap_andorra(benchmark::State& state) {
+    run_andorra(state, Timed::whole_run);
 }
 
 /// Coverage sizes: 10^3..10^5 vertices, and 10^6 with TRISNAP_BENCH_LARGE=1.
@@ -206,6 +238,12 @@ void register_benchmarks() {
     with_sizes(RegisterBenchmark("BM_Triangulate_Only", bm_triangulate_only)->UseManualTime(),
                sizes);
     with_sizes(RegisterBenchmark("BM_Snap_Only", bm_snap_only)->UseManualTime(), sizes);
+    with_sizes(RegisterBenchmark("BM_Label_Only", bm_label_only)->UseManualTime(), sizes);
+    with_sizes(RegisterBenchmark("BM_Extract_Only", bm_extract_only)->UseManualTime(), sizes);
+    // Andorra per phase: Arg 1 triangulate, 2 snap, 3 label, 4 extract (the Timed values).
+    RegisterBenchmark("BM_Andorra_Phase", bm_andorra_phase)
+        ->DenseRange(static_cast<int>(Timed::triangulate_phase), static_cast<int>(Timed::extract_phase))
+        ->UseManualTime()->Unit(benchmark::kMillisecond);
     with_sizes(RegisterBenchmark("BM_Snap_NearDegenerate", bm_snap_near_degenerate)
                    ->MeasureProcessCPUTime()->UseRealTime(), {100, 1'000, 10'000});
     RegisterBenchmark("BM_Snap_Andorra", bm_snap_andorra)

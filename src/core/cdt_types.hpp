@@ -1,23 +1,32 @@
 #pragma once
 // The CGAL types of the engine, in one place.
 //
-// Kernel choice: Epeck (exact constructions) with Exact_intersections_tag. Input edges cross and
-// overlap (OSM layers overlap freely); the crossing points must lie exactly on both edges, or the
-// sub-edges of one constraint no longer follow it. Measured on Monaco: Epick with
-// Exact_predicates_tag in Constrained_triangulation_plus_2 attached a vertex 18 m away to a ring
-// (is_valid() true, no assertion), Epick with Exact_intersections_tag does not compile, Epeck with
-// Exact_intersections_tag is correct at about 1.5x the build time. Every point the snapper itself
-// creates is built from doubles, so lazy-exact DAGs only grow at genuine input crossings.
+// A plain constrained Delaunay triangulation over doubles with filtered exact predicates (Epick):
+// no Constrained_triangulation_plus_2 hierarchy and no exact constructions. CGAL only records
+// that an edge is constrained; who owns it (which input edges run along it) the engine keeps in
+// its own flat table (core/edge_owners.hpp), and every point the engine inserts it constructs
+// itself, exactly and rounded once (core/exact.hpp). The triangulation is told that constraints
+// never cross (No_constraint_intersection_requiring_constructions_tag): the engine inserts a
+// constraint only after its own walk found no crossing, so CGAL never falls back to its
+// double-precision intersection, which can attach a crossing to the wrong endpoint (measured:
+// a vertex 18 m off on Monaco with Epick + Exact_predicates_tag). Should a crossing slip
+// through, CGAL throws instead of guessing.
 //
-// Constrained_triangulation_plus_2 keeps, for each sub-edge, the list of input constraints that
-// pass through it (its "contexts"); we insert one constraint per input edge and keep the owner of
-// each constraint (feature, ring, segment) in a side table keyed by Constraint_id.
+// Measured before the switch (Monaco): the _plus hierarchy (a std::map of point pairs compared
+// by exact coordinates) was 32-41 % of the triangulation phase, and the plain Epick CDT of the
+// same constraints took 2.9-4.3x less time and 146-177 instead of 807-884 bytes per vertex.
+//
+// Defining TRISNAP_PLAIN_CT (no CMake option yet; that build is untested) builds the engine on
+// CGAL's Constrained_triangulation_2 instead (no Delaunay flips), for the comparison the issue
+// asks for; the default is the Delaunay one. Not measured yet (REPORT.md, "Lean engine").
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Constrained_triangulation_2.h>
 #include <CGAL/Constrained_triangulation_face_base_2.h>
-#include <CGAL/Constrained_triangulation_plus_2.h>
-#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
+#include "core/tracked_face.hpp"
 
 #include <cstdint>
 #include <limits>
@@ -26,38 +35,36 @@ namespace trisnap::cdt {
 
 inline constexpr std::uint32_t k_no_id = std::numeric_limits<std::uint32_t>::max();
 
-/// Our id of a triangulation vertex. CGAL creates vertices at constraint crossings and leaves
-/// their info default-constructed, so k_no_id marks "not registered yet".
+/// Our id of a triangulation vertex (k_no_id: not registered yet).
 struct VertexInfo {
     std::uint32_t id = k_no_id;
 };
 
 /// Scratch fields for searches and labelling: `stamp` marks a face visited in the current
-/// search without a hash set; `label` indexes the label table.
+/// search without a hash set; `label` indexes the label table; `checked` says the snapper has
+/// looked at the face as it is now (core/tracked_face.hpp clears it on every change).
 struct FaceInfo {
     std::uint32_t stamp = 0;
     std::uint32_t label = k_no_id;
-    std::uint32_t scratch = 0; ///< per-feature index during extraction
+    bool checked = false;
 };
 
-using Kernel = CGAL::Exact_predicates_exact_constructions_kernel;
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = Kernel::Point_2;
 using Segment = Kernel::Segment_2;
 using Vb = CGAL::Triangulation_vertex_base_with_info_2<VertexInfo, Kernel>;
 using Fbi = CGAL::Triangulation_face_base_with_info_2<FaceInfo, Kernel>;
-using Fb = CGAL::Constrained_triangulation_face_base_2<Kernel, Fbi>;
+using Fb = TrackedFace<Kernel, CGAL::Constrained_triangulation_face_base_2<Kernel, Fbi>>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
-using Cdt = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds, CGAL::Exact_intersections_tag>;
-using Triangulation = CGAL::Constrained_triangulation_plus_2<Cdt>;
+using Itag = CGAL::No_constraint_intersection_requiring_constructions_tag;
+#ifdef TRISNAP_PLAIN_CT
+using Triangulation = CGAL::Constrained_triangulation_2<Kernel, Tds, Itag>;
+inline constexpr bool k_delaunay = false;
+#else
+using Triangulation = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds, Itag>;
+inline constexpr bool k_delaunay = true;
+#endif
 using Vertex_handle = Triangulation::Vertex_handle;
 using Face_handle = Triangulation::Face_handle;
-using Constraint_id = Triangulation::Constraint_id;
-
-struct ConstraintIdHash {
-    std::size_t operator()(const Constraint_id& c) const noexcept
-    {
-        return std::hash<const void*>{}(c.vl_ptr());
-    }
-};
 
 } // namespace trisnap::cdt

@@ -1,5 +1,7 @@
 #include "core/input_cleaning.hpp"
 
+#include "core/snap.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -10,7 +12,11 @@ namespace {
 // A coordinate c carries about |c| * 2^-52 of rounding; below ~2^8 ulps the tolerance cannot be
 // told apart from rounding noise, and the triangulation's exact predicates would see near-random
 // geometry. Such features are rejected with problem 109 rather than snapped unpredictably.
-bool too_large(double c, double tolerance) { return std::abs(c) * 0x1p-44 > tolerance; }
+// Beyond k_max_coordinate squared coordinate differences would overflow, whatever the tolerance.
+bool too_large(double c, double tolerance)
+{
+    return std::abs(c) * 0x1p-44 > tolerance || std::abs(c) > k_max_coordinate;
+}
 
 struct Flags {
     bool unclosed = false, repeated = false, degenerate_ring = false, degenerate_line = false;

@@ -9,7 +9,7 @@ namespace {
 
 class Labeller {
 public:
-    Labeller(Mesh& mesh, FaceLabels& out) : m_mesh(mesh), m_out(out), m_owners(mesh.sub_edge_owners()) {}
+    Labeller(Mesh& mesh, FaceLabels& out) : m_mesh(mesh), m_out(out) {}
 
     void run()
     {
@@ -38,11 +38,14 @@ private:
     std::uint32_t crossed(std::uint32_t label, cdt::Face_handle f, int i)
     {
         auto& tri = m_mesh.tri();
-        const std::uint64_t key = edge_key(f->vertex(tri.cw(i))->info().id, f->vertex(tri.ccw(i))->info().id);
-        auto it = std::lower_bound(m_owners.begin(), m_owners.end(), SubEdgeOwner{key, 0});
+        m_refs.clear();
+        m_mesh.owner_refs(f->vertex(tri.cw(i))->info().id, f->vertex(tri.ccw(i))->info().id, m_refs);
         m_toggle.clear();
-        for (; it != m_owners.end() && it->key == key; ++it)
-            if (!m_mesh.owner_at(it->owner).line) m_toggle.push_back(m_mesh.owner_at(it->owner).feature);
+        for (const OwnerRef& ref : m_refs) {
+            if (!m_mesh.owner_at(ref.owner).line) {
+                m_toggle.push_back(m_mesh.owner_at(ref.owner).feature);
+            }
+        }
         std::sort(m_toggle.begin(), m_toggle.end());
         std::vector<std::uint32_t> odd;
         for (std::size_t k = 0; k < m_toggle.size();) {
@@ -68,7 +71,7 @@ private:
     Mesh& m_mesh;
     FaceLabels& m_out;
     std::map<std::vector<std::uint32_t>, std::uint32_t> m_index;
-    std::vector<SubEdgeOwner> m_owners;
+    std::vector<OwnerRef> m_refs;
     std::vector<std::uint32_t> m_toggle;
 };
 

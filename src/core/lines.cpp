@@ -6,26 +6,17 @@ namespace trisnap::detail {
 std::vector<std::vector<LineEdge>> collect_line_edges(Mesh& mesh, std::size_t feature_count)
 {
     std::vector<std::vector<LineEdge>> out(feature_count);
-    auto& tri = mesh.tri();
-    for (auto cit = tri.constraints_begin(); cit != tri.constraints_end(); ++cit) {
-        const Owner& o = mesh.owner(*cit);
-        if (!o.line) {
-            continue;
+    mesh.for_each_owned_edge([&](std::uint32_t u, std::uint32_t v, OwnerRef ref) {
+        const Owner& o = mesh.owner_at(ref.owner);
+        if (o.line) {
+            out[o.feature].push_back(ref.forward ? LineEdge{u, v} : LineEdge{v, u});
         }
-        std::uint32_t prev = cdt::k_no_id;
-        for (auto it = tri.vertices_in_constraint_begin(*cit); it != tri.vertices_in_constraint_end(*cit); ++it) {
-            const std::uint32_t v = (*it)->info().id;
-            if (prev != cdt::k_no_id) {
-                out[o.feature].push_back(LineEdge{prev, v});
-            }
-            prev = v;
-        }
-    }
+    });
     return out;
 }
 
 // The assembler orders edges itself (exactly, by coordinates), so the order of constraints
-// (addresses) does not reach the output.
+// (the owner table's) does not reach the output.
 Geometry extract_lines(const Mesh& mesh, const std::vector<LineEdge>& edges,
                        const std::vector<Coord>& part_starts, const ExtractOptions& options)
 {

@@ -1,24 +1,30 @@
 #pragma once
 // The triangulation of one snapping job and the bookkeeping CGAL does not keep for us: our
 // vertex ids (stable, never reused, ordered by coordinates at build time so nothing depends on
-// input order or addresses), the input positions each vertex stands for, and the owner of every
-// constraint. All snapping edits go through replace(), which is the one place that removes and
-// re-inserts constraints (CGAL has no "move a constrained vertex").
+// input order or addresses), the input positions each vertex stands for, and the owners of every
+// constrained edge (core/edge_owners.hpp). Every constraint goes in through insert_segment(),
+// which walks the triangulation first and splits the segment at vertices lying on it and at
+// crossings (constructed exactly, rounded once: core/exact.hpp), so CGAL never meets a crossing.
+// All snapping edits go through replace() (CGAL has no "move a constrained vertex").
 #include "core/cdt_types.hpp"
+#include "core/edge_owners.hpp"
 #include "core/input_cleaning.hpp"
 
 #include <span>
-#include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace trisnap::detail {
 
 /// Who an input edge belongs to. `part` is the ring index (polygons) or line index (lines) in
-/// the CleanFeature; `seg` the edge's index along it.
+/// the CleanFeature; `seg` the edge's index along it; `from` and `to` the vertex ids of its ends
+/// when the triangulation was built (follow merges with Mesh::current()).
 struct Owner {
     std::uint32_t feature = 0;
     std::uint32_t part = 0;
     std::uint32_t seg = 0;
+    std::uint32_t from = 0;
+    std::uint32_t to = 0;
     bool line = false;
 };
 
@@ -31,15 +37,8 @@ struct VertexRecord {
 };
 
 struct EdgeHit {
-    double d;
+    double d2; ///< squared distance
     std::uint32_t b, c; ///< b < c
-};
-
-/// One (sub-edge, owner) pair; key = (min vertex id << 32) | max vertex id.
-struct SubEdgeOwner {
-    std::uint64_t key;
-    std::uint32_t owner;
-    bool operator<(const SubEdgeOwner& o) const { return key != o.key ? key < o.key : owner < o.owner; }
 };
 
 inline std::uint64_t edge_key(std::uint32_t a, std::uint32_t b)
@@ -57,9 +56,10 @@ public:
     const VertexRecord& vertex(std::uint32_t id) const { return m_vertices[id]; }
     std::size_t vertex_slots() const { return m_vertices.size(); }
     std::uint32_t id(cdt::Vertex_handle h) const { return h->info().id; }
-    const Owner& owner(const cdt::Constraint_id& cid) const { return m_owners[m_owner_of.at(cid)]; }
     const Owner& owner_at(std::uint32_t index) const { return m_owners[index]; }
     std::size_t intersections() const { return m_intersections; }
+    /// Faces the searches have walked so far (a measure of the snapper's work).
+    std::size_t faces_walked() const { return m_faces_walked; }
     static constexpr std::size_t frame_vertices = 4;
     /// A stamp no face or vertex carries yet, for marking sets of faces.
     std::uint32_t fresh_stamp() { return next_stamp(); }
@@ -68,48 +68,73 @@ public:
     /// Where an input vertex is now (follows merges).
     std::uint32_t current(std::uint32_t id);
 
-    /// Replaces `olds` by one vertex at (x, y), re-attaching their constraints with their owners.
-    /// With `split` = {b, c}, the new vertex is the exact projection of (x, y) on the constrained
-    /// edge b-c and splits it. Returns the new vertex; `touched` receives the vertices whose
-    /// neighbourhood changed (old and new 1-rings, crossing vertices created).
-    std::uint32_t replace(std::span<const std::uint32_t> olds, double x, double y,
-                          const std::uint32_t* split, std::vector<std::uint32_t>& touched);
+    /// Replaces `olds` by one vertex at (x, y), re-attaching their constrained edges with their
+    /// owners. With `split` = {b, c}, the new vertex is the foot of (x, y) on the constrained
+    /// edge b-c (rounded) and b-c is routed through it. Returns the new vertex; last_created()
+    /// and last_new_edges() then tell what else the edit made.
+    std::uint32_t replace(std::span<const std::uint32_t> olds, double x, double y, const std::uint32_t* split);
+    /// Crossing vertices the last replace() created.
+    const std::vector<std::uint32_t>& last_created() const { return m_created; }
+    /// Constrained edges the last replace() inserted (re-attached, split or rerouted pieces).
+    const std::vector<std::pair<std::uint32_t, std::uint32_t>>& last_new_edges() const { return m_new_edges; }
 
-    /// Vertices within r_vertex of vertex v and constrained edges within r_edge of it (not
-    /// incident to v), whatever constraints lie between: a walk over the faces meeting the disk.
-    void search_point(std::uint32_t v, double r_vertex, double r_edge,
+    /// Vertices within sqrt(r2_vertex) of vertex v and constrained edges within sqrt(r2_edge)
+    /// of it (not incident to v), with squared distances, whatever constraints lie between: a
+    /// walk over the faces meeting the disk.
+    void search_point(std::uint32_t v, double r2_vertex, double r2_edge,
                       std::vector<std::pair<double, std::uint32_t>>& vertices,
                       std::vector<EdgeHit>& edges);
-    /// Vertices within r of the segment b-c (not b or c): a walk over faces meeting the capsule.
-    void search_segment(std::uint32_t b, std::uint32_t c, double r,
+    /// Vertices within sqrt(r2) of the segment b-c (not b or c), with squared distances: a walk
+    /// over faces meeting the capsule.
+    void search_segment(std::uint32_t b, std::uint32_t c, double r2,
                         std::vector<std::pair<double, std::uint32_t>>& vertices);
-    /// Owner indices of every constraint through the sub-edge a-b (empty if not constrained).
+    /// Owner indices of the edge a-b (empty if it is not constrained).
     void owners_of_edge(std::uint32_t a, std::uint32_t b, std::vector<std::uint32_t>& out) const;
-    bool is_constrained_edge(std::uint32_t a, std::uint32_t b) const;
-    /// Every constrained sub-edge with each owner of the constraints through it, sorted by key.
-    /// One sequential pass over the constraints: far cheaper than asking CGAL's hierarchy (a map
-    /// keyed by exact points) edge by edge.
-    std::vector<SubEdgeOwner> sub_edge_owners() const;
+    /// The owners of a-b oriented from a to b (appended).
+    void owner_refs(std::uint32_t a, std::uint32_t b, std::vector<OwnerRef>& out) const { m_edge_owners.get(a, b, out); }
+    bool is_constrained_edge(std::uint32_t a, std::uint32_t b) const { return m_edge_owners.contains(a, b); }
+    /// Calls f(u, v, OwnerRef) for every owner of every constrained edge (u < v, oriented u->v).
+    template <class F>
+    void for_each_owned_edge(F&& f) const { m_edge_owners.for_each(f); }
     /// Records that vertex v was split into edges of these owners (the guard on repeated splits).
     void note_snapped(std::uint32_t v, const std::vector<std::uint32_t>& owners);
 
 private:
-    struct Saved {
-        std::vector<cdt::Vertex_handle> list;
-        std::uint32_t owner;
+    struct Job {
+        cdt::Vertex_handle a, b;
+        std::uint32_t first, count; ///< owners in m_arena, oriented a -> b
     };
+    struct Obstacle {
+        enum class Kind { none, vertex, crossing } kind = Kind::none;
+        cdt::Vertex_handle v; ///< Kind::vertex: a vertex inside the segment
+        cdt::Face_handle f;   ///< Kind::crossing: the constrained edge (f, i) crossing it
+        int i = 0;
+    };
+    struct Saved {
+        cdt::Vertex_handle other;
+        std::uint32_t first, count; ///< owners in m_arena, oriented from the old vertex to `other`
+    };
+
+    // mesh_build.cpp
     void insert_points(const std::vector<CleanFeature>& features, double reach);
     void insert_constraints(const std::vector<CleanFeature>& features);
-    void insert_edge(cdt::Vertex_handle a, cdt::Vertex_handle b, std::uint32_t owner);
-    void register_created_vertices();
+    void register_created_vertices(std::size_t first_created);
     std::uint32_t add_record(cdt::Vertex_handle h, double z);
-    double interpolated_z(cdt::Vertex_handle h) const;
-    void collect_constraints(cdt::Vertex_handle h, std::vector<Saved>& saved,
-                             std::vector<std::uint32_t>& touched);
-    cdt::Vertex_handle insert_target(double x, double y, const std::uint32_t* split,
-                                     cdt::Face_handle hint);
+    double interpolated_z(cdt::Vertex_handle h);
+    // mesh_insert.cpp
+    cdt::Vertex_handle insert_point(const cdt::Point& p, cdt::Face_handle hint);
+    void insert_segment(cdt::Vertex_handle a, cdt::Vertex_handle b, std::span<const OwnerRef> owners);
+    void run_jobs();
+    Obstacle first_obstacle(cdt::Vertex_handle a, cdt::Vertex_handle b) const;
+    void resolve_crossing(const Job& job, cdt::Face_handle f, int i);
+    bool reroute(cdt::Vertex_handle r, cdt::Vertex_handle l, cdt::Vertex_handle via);
+    void push_job(cdt::Vertex_handle a, cdt::Vertex_handle b, std::uint32_t first, std::uint32_t count);
+    void constrain(const Job& job);
+    // mesh_edit.cpp
+    void collect_constraints(cdt::Vertex_handle h, std::span<const std::uint32_t> olds);
+    cdt::Vertex_handle insert_target(double x, double y, const std::uint32_t* split, cdt::Face_handle hint);
     void merge_into(std::uint32_t target, std::span<const std::uint32_t> olds);
-    void reinsert(const std::vector<Saved>& saved, std::vector<std::uint32_t>& touched);
+    void take_edge_z(std::uint32_t v, std::uint32_t b, std::uint32_t c);
     void one_ring(cdt::Vertex_handle h, std::vector<std::uint32_t>& out) const;
     std::uint32_t next_stamp();
 
@@ -117,13 +142,25 @@ private:
     std::vector<VertexRecord> m_vertices;
     std::vector<std::uint32_t> m_forward;
     std::vector<Owner> m_owners;
-    std::unordered_map<cdt::Constraint_id, std::uint32_t, cdt::ConstraintIdHash> m_owner_of;
+    EdgeOwners m_edge_owners;
     std::vector<std::vector<std::uint32_t>> m_input_ids;
     std::vector<std::uint32_t> m_vertex_stamp;
     std::uint32_t m_stamp = 0;
     std::size_t m_intersections = 0;
+    std::size_t m_faces_walked = 0;
+    // Scratch of insert_segment() and replace(), kept to avoid allocating per call.
+    std::vector<Job> m_jobs;
+    std::vector<OwnerRef> m_arena;
+    std::vector<Saved> m_saved;
+    std::vector<std::uint32_t> m_created; ///< vertices insert_segment() created (crossings)
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> m_new_edges;
+    std::vector<std::uint32_t> m_ring;
+    std::vector<cdt::Face_handle> m_walk;
+    mutable std::vector<OwnerRef> m_refs;
 };
 
 double distance_point_segment(double px, double py, double ax, double ay, double bx, double by);
+/// The squared distance from p to the segment a-b (what the snapper compares).
+double squared_distance_point_segment(double px, double py, double ax, double ay, double bx, double by);
 
 } // namespace trisnap::detail

@@ -1,4 +1,5 @@
-// Building the triangulation: points in a canonical order, one constraint per input edge.
+// Building the triangulation: points in a canonical order, one constraint per input edge (split
+// at crossings and at vertices lying on it by insert_segment, mesh_insert.cpp).
 #include "core/mesh.hpp"
 
 #include <CGAL/spatial_sort.h>
@@ -6,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <tuple>
 
 namespace trisnap::detail {
 namespace {
@@ -51,20 +53,12 @@ double mean_z(std::vector<InputPoint>::const_iterator first, std::vector<InputPo
 
 } // namespace
 
-double distance_point_segment(double px, double py, double ax, double ay, double bx, double by)
-{
-    const double dx = bx - ax, dy = by - ay;
-    const double len2 = dx * dx + dy * dy;
-    double s = len2 > 0 ? ((px - ax) * dx + (py - ay) * dy) / len2 : 0.0;
-    s = std::clamp(s, 0.0, 1.0);
-    return std::hypot(px - (ax + s * dx), py - (ay + s * dy));
-}
-
 Mesh::Mesh(const std::vector<CleanFeature>& features, double reach)
 {
     insert_points(features, reach);
+    const std::size_t first_created = m_vertices.size();
     insert_constraints(features);
-    register_created_vertices();
+    register_created_vertices(first_created);
 }
 
 // Distinct points get ids in lexicographic (x, y) order; they are inserted in CGAL's spatial
@@ -131,13 +125,6 @@ void Mesh::insert_points(const std::vector<CleanFeature>& features, double reach
     m_vertex_stamp.assign(unique.size(), 0);
 }
 
-void Mesh::insert_edge(cdt::Vertex_handle a, cdt::Vertex_handle b, std::uint32_t owner)
-{
-    if (a == b) return;
-    const cdt::Constraint_id cid = m_tri.insert_constraint(a, b);
-    m_owner_of.emplace(cid, owner);
-}
-
 // Features are inserted in (id, index) order so crossings are found in an order that does not
 // depend on how the caller ordered its features.
 void Mesh::insert_constraints(const std::vector<CleanFeature>& features)
@@ -153,31 +140,53 @@ void Mesh::insert_constraints(const std::vector<CleanFeature>& features)
         auto add_path = [&](std::size_t n, std::uint32_t part, bool closed, bool line) {
             const std::size_t edges = closed ? n : n - 1;
             for (std::size_t i = 0; i < edges; ++i) {
-                const auto seg = static_cast<std::uint32_t>(i);
-                m_owners.push_back(Owner{f, part, seg, line});
-                const auto owner = static_cast<std::uint32_t>(m_owners.size() - 1);
-                insert_edge(m_vertices[ids[base + i]].handle,
-                            m_vertices[ids[base + (i + 1) % n]].handle, owner);
+                const std::uint32_t from = ids[base + i];
+                const std::uint32_t to = ids[base + (i + 1) % n];
+                m_owners.push_back(Owner{f, part, static_cast<std::uint32_t>(i), from, to, line});
+                const OwnerRef ref{static_cast<std::uint32_t>(m_owners.size() - 1), true};
+                insert_segment(m_vertices[from].handle, m_vertices[to].handle, std::span(&ref, 1));
             }
             base += n;
         };
         const CleanFeature& cf = features[f];
-        for (std::uint32_t r = 0; r < cf.rings.size(); ++r) add_path(cf.rings[r].points.size(), r, true, false);
-        for (std::uint32_t l = 0; l < cf.lines.size(); ++l) add_path(cf.lines[l].size(), l, false, true);
+        for (std::uint32_t r = 0; r < cf.rings.size(); ++r) {
+            add_path(cf.rings[r].points.size(), r, true, false);
+        }
+        for (std::uint32_t l = 0; l < cf.lines.size(); ++l) {
+            add_path(cf.lines[l].size(), l, false, true);
+        }
     }
 }
 
-// Crossing vertices CGAL created get ids after the input points, in coordinate order.
-void Mesh::register_created_vertices()
+// Crossing vertices were numbered as they were created; they get ids after the input points in
+// coordinate order instead (then nothing depends on the order crossings were found in), and the
+// z of the input edges through them.
+void Mesh::register_created_vertices(std::size_t first_created)
 {
-    std::vector<cdt::Vertex_handle> created;
-    for (auto v : m_tri.finite_vertex_handles())
-        if (v->info().id == cdt::k_no_id) created.push_back(v);
-    std::sort(created.begin(), created.end(), [](cdt::Vertex_handle a, cdt::Vertex_handle b) {
-        return CGAL::compare_xy(a->point(), b->point()) == CGAL::SMALLER;
+    const std::size_t n = m_vertices.size();
+    std::vector<std::uint32_t> created(n - first_created);
+    std::iota(created.begin(), created.end(), static_cast<std::uint32_t>(first_created));
+    std::sort(created.begin(), created.end(), [&](std::uint32_t a, std::uint32_t b) {
+        return std::tie(m_vertices[a].x, m_vertices[a].y) < std::tie(m_vertices[b].x, m_vertices[b].y);
     });
-    for (cdt::Vertex_handle h : created) add_record(h, interpolated_z(h));
+    std::vector<std::uint32_t> rename(n);
+    std::iota(rename.begin(), rename.end(), 0u);
+    std::vector<VertexRecord> records(created.size());
+    for (std::size_t k = 0; k < created.size(); ++k) {
+        rename[created[k]] = static_cast<std::uint32_t>(first_created + k);
+        records[k] = std::move(m_vertices[created[k]]);
+    }
+    for (std::size_t k = 0; k < created.size(); ++k) {
+        m_vertices[first_created + k] = std::move(records[k]);
+        m_vertices[first_created + k].handle->info().id = static_cast<std::uint32_t>(first_created + k);
+    }
+    m_edge_owners.rename(rename);
+    for (std::size_t id = first_created; id < n; ++id) {
+        m_vertices[id].weight = 1;
+        m_vertices[id].z = interpolated_z(m_vertices[id].handle);
+    }
     m_intersections += created.size();
+    m_created.clear();
 }
 
 std::uint32_t Mesh::add_record(cdt::Vertex_handle h, double z)
@@ -186,8 +195,8 @@ std::uint32_t Mesh::add_record(cdt::Vertex_handle h, double z)
     h->info().id = id;
     VertexRecord r;
     r.handle = h;
-    r.x = CGAL::to_double(h->point().x());
-    r.y = CGAL::to_double(h->point().y());
+    r.x = h->point().x();
+    r.y = h->point().y();
     r.z = z;
     m_vertices.push_back(std::move(r));
     m_forward.push_back(cdt::k_no_id);
@@ -195,34 +204,39 @@ std::uint32_t Mesh::add_record(cdt::Vertex_handle h, double z)
     return id;
 }
 
-// A vertex created on constraints takes the z of each constraint's end points interpolated by
-// distance along it (a split point interpolates); where several constraints with z cross, the
-// mean of their interpolations.
-double Mesh::interpolated_z(cdt::Vertex_handle h) const
+// A vertex created on constraints takes the z of each input edge through it, interpolated by
+// distance between that edge's ends (where they are now); where several input edges with z
+// meet, the mean of their interpolations.
+double Mesh::interpolated_z(cdt::Vertex_handle h)
 {
-    const double x = CGAL::to_double(h->point().x()), y = CGAL::to_double(h->point().y());
+    const double x = h->point().x();
+    const double y = h->point().y();
     double sum = 0;
     int n = 0;
-    std::vector<cdt::Constraint_id> seen;
-    auto ec = m_tri.incident_edges(h), done = ec;
+    std::vector<OwnerRef> refs;
+    std::vector<std::uint32_t> seen;
+    auto vc = m_tri.incident_vertices(h);
+    const auto done = vc;
     do {
-        const cdt::Face_handle f = ec->first;
-        const int i = ec->second;
-        if (m_tri.is_infinite(*ec) || !f->is_constrained(i)) continue;
-        const auto va = f->vertex(m_tri.cw(i)), vb = f->vertex(m_tri.ccw(i));
-        for (auto ctx = m_tri.contexts_begin(va, vb); ctx != m_tri.contexts_end(va, vb); ++ctx) {
-            if (std::find(seen.begin(), seen.end(), ctx->id()) != seen.end()) continue;
-            seen.push_back(ctx->id());
-            const cdt::Vertex_handle a = *ctx->vertices_begin();
-            cdt::Vertex_handle b = a; // the skip iterator cannot step back from its end
-            for (auto it = ctx->vertices_begin(); it != ctx->vertices_end(); ++it) b = *it;
-            if (a->info().id == cdt::k_no_id || b->info().id == cdt::k_no_id) continue;
-            const VertexRecord &ra = m_vertices[a->info().id], &rb = m_vertices[b->info().id];
-            const double la = std::hypot(x - ra.x, y - ra.y), lb = std::hypot(x - rb.x, y - rb.y);
-            const double z = la + lb > 0 ? ra.z + (rb.z - ra.z) * la / (la + lb) : ra.z;
-            if (!std::isnan(z)) sum += z, ++n;
+        if (!m_tri.is_infinite(vc)) {
+            m_edge_owners.get(id(h), id(vc), refs);
         }
-    } while (++ec != done);
+    } while (++vc != done);
+    for (const OwnerRef& ref : refs) {
+        if (std::find(seen.begin(), seen.end(), ref.owner) != seen.end()) {
+            continue;
+        }
+        seen.push_back(ref.owner);
+        const VertexRecord& ra = m_vertices[current(m_owners[ref.owner].from)];
+        const VertexRecord& rb = m_vertices[current(m_owners[ref.owner].to)];
+        const double la = std::hypot(x - ra.x, y - ra.y);
+        const double lb = std::hypot(x - rb.x, y - rb.y);
+        const double z = la + lb > 0 ? ra.z + (rb.z - ra.z) * la / (la + lb) : ra.z;
+        if (!std::isnan(z)) {
+            sum += z;
+            ++n;
+        }
+    }
     return n ? sum / n : std::nan("");
 }
 
@@ -238,36 +252,14 @@ std::uint32_t Mesh::current(std::uint32_t id)
     return root;
 }
 
-bool Mesh::is_constrained_edge(std::uint32_t a, std::uint32_t b) const
-{
-    cdt::Face_handle f;
-    int i;
-    return m_tri.is_edge(m_vertices[a].handle, m_vertices[b].handle, f, i) && f->is_constrained(i);
-}
-
-std::vector<SubEdgeOwner> Mesh::sub_edge_owners() const
-{
-    std::vector<SubEdgeOwner> out;
-    for (auto cit = m_tri.constraints_begin(); cit != m_tri.constraints_end(); ++cit) {
-        const std::uint32_t owner = m_owner_of.at(*cit);
-        std::uint32_t prev = cdt::k_no_id;
-        for (auto it = m_tri.vertices_in_constraint_begin(*cit); it != m_tri.vertices_in_constraint_end(*cit); ++it) {
-            const std::uint32_t v = (*it)->info().id;
-            if (prev != cdt::k_no_id && prev != v) out.push_back(SubEdgeOwner{edge_key(prev, v), owner});
-            prev = v;
-        }
-    }
-    std::sort(out.begin(), out.end());
-    return out;
-}
-
 void Mesh::owners_of_edge(std::uint32_t a, std::uint32_t b, std::vector<std::uint32_t>& out) const
 {
     out.clear();
-    if (!is_constrained_edge(a, b)) return;
-    const auto ha = m_vertices[a].handle, hb = m_vertices[b].handle;
-    for (auto it = m_tri.contexts_begin(ha, hb); it != m_tri.contexts_end(ha, hb); ++it)
-        out.push_back(m_owner_of.at(it->id()));
+    m_refs.clear();
+    m_edge_owners.get(a, b, m_refs);
+    for (const OwnerRef& r : m_refs) {
+        out.push_back(r.owner);
+    }
 }
 
 } // namespace trisnap::detail

@@ -1,63 +1,67 @@
 // Moving and merging vertices of the constrained triangulation. CGAL 5.5 has no "move a
-// constrained vertex" (move_if_no_collision drops constraints; the inherited
-// remove_incident_constraints corrupts Constrained_triangulation_plus_2's hierarchy), so an edit
-// removes every constraint through the old vertices one by one with remove_constraint, removes
-// the vertices, inserts the new point and re-inserts the constraints as single edges with their
-// owners. Zero-length pieces vanish; duplicates stay as two contexts on one sub-edge (their
-// owners are merged that way, and odd-even parity stays right).
+// constrained vertex" (move_if_no_collision drops constraints), so an edit takes the owners of
+// every constrained edge at the old vertices out of the owner table, removes the vertices,
+// inserts the new point and re-inserts each edge from the new vertex to its other end with its
+// owners (insert_segment: split at crossings and vertices on the way). An edge between two of
+// the old vertices has length zero afterwards and vanishes; two edges that fold onto one keep
+// both owners (odd-even parity stays right).
+#include "core/exact.hpp"
 #include "core/mesh.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 
 namespace trisnap::detail {
 
 void Mesh::one_ring(cdt::Vertex_handle h, std::vector<std::uint32_t>& out) const
 {
-    auto vc = m_tri.incident_vertices(h), done = vc;
-    if (vc == nullptr) return;
+    auto vc = m_tri.incident_vertices(h);
+    if (vc == nullptr) {
+        return;
+    }
+    const auto done = vc;
     do {
-        if (!m_tri.is_infinite(vc) && vc->info().id != cdt::k_no_id) out.push_back(vc->info().id);
+        if (!m_tri.is_infinite(vc) && vc->info().id != cdt::k_no_id) {
+            out.push_back(vc->info().id);
+        }
     } while (++vc != done);
 }
 
-void Mesh::collect_constraints(cdt::Vertex_handle h, std::vector<Saved>& saved,
-                               std::vector<std::uint32_t>& touched)
+void Mesh::collect_constraints(cdt::Vertex_handle h, std::span<const std::uint32_t> olds)
 {
-    one_ring(h, touched);
-    std::vector<cdt::Constraint_id> cids;
-    auto ec = m_tri.incident_edges(h), done = ec;
-    if (ec == nullptr) return;
-    do {
-        const cdt::Face_handle f = ec->first;
-        const int i = ec->second;
-        if (m_tri.is_infinite(*ec) || !f->is_constrained(i)) continue;
-        const auto a = f->vertex(m_tri.cw(i)), b = f->vertex(m_tri.ccw(i));
-        for (auto it = m_tri.contexts_begin(a, b); it != m_tri.contexts_end(a, b); ++it)
-            if (std::find(cids.begin(), cids.end(), it->id()) == cids.end()) cids.push_back(it->id());
-    } while (++ec != done);
-    for (const cdt::Constraint_id& cid : cids) {
-        Saved s;
-        s.list.assign(m_tri.vertices_in_constraint_begin(cid), m_tri.vertices_in_constraint_end(cid));
-        s.owner = m_owner_of.at(cid);
-        saved.push_back(std::move(s));
-        m_owner_of.erase(cid);
-        m_tri.remove_constraint(cid);
+    const std::size_t ring_start = m_ring.size();
+    one_ring(h, m_ring);
+    for (std::size_t k = ring_start; k < m_ring.size(); ++k) {
+        const std::uint32_t n = m_ring[k];
+        const auto first = static_cast<std::uint32_t>(m_arena.size());
+        m_edge_owners.take(id(h), n, m_arena);
+        const auto count = static_cast<std::uint32_t>(m_arena.size() - first);
+        if (count == 0) {
+            continue;
+        }
+        if (std::find(olds.begin(), olds.end(), n) != olds.end()) {
+            m_arena.resize(first); // between two old vertices: length zero after the edit
+            continue;
+        }
+        m_saved.push_back(Saved{m_vertices[n].handle, first, count});
     }
+    m_tri.remove_incident_constraints(h);
 }
 
-cdt::Vertex_handle Mesh::insert_target(double x, double y, const std::uint32_t* split,
-                                       cdt::Face_handle hint)
+cdt::Vertex_handle Mesh::insert_target(double x, double y, const std::uint32_t* split, cdt::Face_handle hint)
 {
-    if (split == nullptr) return m_tri.insert(cdt::Point(x, y), hint);
-    // The exact foot of the perpendicular lies exactly on the constrained edge, so CGAL locates
-    // it on that edge and splits the constraint there; a foot rounded to doubles would land in a
-    // neighbouring face and split nothing.
-    const cdt::Point& b = m_vertices[split[0]].handle->point();
-    const cdt::Point& c = m_vertices[split[1]].handle->point();
-    const cdt::Point foot = cdt::Kernel::Line_2(b, c).projection(cdt::Point(x, y));
-    return m_tri.insert(foot, m_vertices[split[0]].handle->face());
+    if (split == nullptr) {
+        return insert_point(cdt::Point(x, y), hint);
+    }
+    const cdt::Vertex_handle b = m_vertices[split[0]].handle;
+    const cdt::Vertex_handle c = m_vertices[split[1]].handle;
+    // The rounded foot lies within an ulp of b-c, not on it: b-c is routed through it explicitly
+    // (it already is when the foot fell exactly on the edge and CGAL split it).
+    const cdt::Vertex_handle v = insert_point(rounded_projection(cdt::Point(x, y), b->point(), c->point()), b->face());
+    if (reroute(b, c, v)) {
+        run_jobs();
+    }
+    return v;
 }
 
 void Mesh::merge_into(std::uint32_t target, std::span<const std::uint32_t> olds)
@@ -66,11 +70,17 @@ void Mesh::merge_into(std::uint32_t target, std::span<const std::uint32_t> olds)
     double zsum = std::isnan(t.z) ? 0.0 : t.z;
     int zn = std::isnan(t.z) ? 0 : 1;
     for (std::uint32_t o : olds) {
-        if (o == target) continue;
+        if (o == target) {
+            continue;
+        }
         VertexRecord& r = m_vertices[o];
-        if (!std::isnan(r.z)) zsum += r.z, ++zn;
+        if (!std::isnan(r.z)) {
+            zsum += r.z;
+            ++zn;
+        }
         t.weight += r.weight;
         t.snapped_into.insert(t.snapped_into.end(), r.snapped_into.begin(), r.snapped_into.end());
+        r.snapped_into.clear();
         r.alive = false;
         r.handle = cdt::Vertex_handle();
         m_forward[o] = target;
@@ -78,72 +88,58 @@ void Mesh::merge_into(std::uint32_t target, std::span<const std::uint32_t> olds)
     t.z = zn ? zsum / zn : std::nan("");
 }
 
-void Mesh::reinsert(const std::vector<Saved>& saved, std::vector<std::uint32_t>& touched)
+std::uint32_t Mesh::replace(std::span<const std::uint32_t> olds, double x, double y, const std::uint32_t* split)
 {
-    std::vector<cdt::Vertex_handle> path;
-    for (const Saved& s : saved) {
-        path.clear();
-        for (cdt::Vertex_handle h : s.list)
-            if (path.empty() || path.back() != h) path.push_back(h);
-        for (std::size_t i = 0; i + 1 < path.size(); ++i) {
-            const cdt::Constraint_id cid = m_tri.insert_constraint(path[i], path[i + 1]);
-            m_owner_of.emplace(cid, s.owner);
-            for (auto it = m_tri.vertices_in_constraint_begin(cid); it != m_tri.vertices_in_constraint_end(cid); ++it) {
-                if ((*it)->info().id != cdt::k_no_id) continue;
-                touched.push_back(add_record(*it, interpolated_z(*it)));
-                ++m_intersections;
-            }
-        }
+    m_saved.clear();
+    m_arena.clear();
+    m_created.clear();
+    m_new_edges.clear();
+    m_ring.clear();
+    for (std::uint32_t o : olds) {
+        collect_constraints(m_vertices[o].handle, olds);
     }
-}
-
-std::uint32_t Mesh::replace(std::span<const std::uint32_t> olds, double x, double y,
-                            const std::uint32_t* split, std::vector<std::uint32_t>& touched)
-{
-    std::vector<Saved> saved;
-    for (std::uint32_t o : olds) collect_constraints(m_vertices[o].handle, saved, touched);
-    // Old vertices are referenced in `saved` by handle; they are replaced before re-insertion.
-    std::vector<cdt::Vertex_handle> old_handles;
-    for (std::uint32_t o : olds) old_handles.push_back(m_vertices[o].handle);
-    for (cdt::Vertex_handle h : old_handles) {
-        if (m_tri.are_there_incident_constraints(h))
-            throw std::logic_error("trisnap: vertex still constrained after removing its constraints");
-        m_tri.remove(h);
+    for (std::uint32_t o : olds) {
+        m_tri.remove(m_vertices[o].handle);
     }
     // Faces around the old vertices are gone: locate from a surviving neighbour.
     cdt::Face_handle hint;
-    for (std::uint32_t t : touched)
-        if (std::find(olds.begin(), olds.end(), t) == olds.end() && m_vertices[t].alive) {
-            hint = m_vertices[t].handle->face();
+    for (std::uint32_t n : m_ring) {
+        if (std::find(olds.begin(), olds.end(), n) == olds.end() && m_vertices[n].alive) {
+            hint = m_vertices[n].handle->face();
             break;
         }
-    // Handles of removed vertices are dangling: map them through their ids captured before.
-    for (Saved& s : saved)
-        for (cdt::Vertex_handle& h : s.list)
-            for (std::size_t k = 0; k < olds.size(); ++k)
-                if (h == old_handles[k]) h = cdt::Vertex_handle();
+    }
     const cdt::Vertex_handle target = insert_target(x, y, split, hint);
-    std::uint32_t tid = target->info().id;
-    if (tid == cdt::k_no_id) {
-        tid = add_record(target, std::nan(""));
-        m_vertices[tid].weight = 0; // a fresh point stands for nothing until the olds merge in
+    const std::uint32_t tid = id(target);
+    merge_into(tid, olds);
+    if (split != nullptr) {
+        take_edge_z(tid, split[0], split[1]);
     }
-    std::vector<std::uint32_t> sources(olds.begin(), olds.end());
-    merge_into(tid, sources);
-    if (split != nullptr) { // the moved vertex also takes the z the edge has there
-        const VertexRecord &b = m_vertices[split[0]], &c = m_vertices[split[1]];
-        const VertexRecord& t = m_vertices[tid];
-        const double lb = std::hypot(t.x - b.x, t.y - b.y), lc = std::hypot(t.x - c.x, t.y - c.y);
-        const double ze = lb + lc > 0 ? b.z + (c.z - b.z) * lb / (lb + lc) : b.z;
-        if (!std::isnan(ze)) m_vertices[tid].z = std::isnan(t.z) ? ze : 0.5 * (t.z + ze);
+    // Pushed last to first, so they go in in the order they were collected.
+    for (auto it = m_saved.rbegin(); it != m_saved.rend(); ++it) {
+        push_job(target, it->other, it->first, it->count);
     }
-    for (Saved& s : saved)
-        for (cdt::Vertex_handle& h : s.list)
-            if (h == cdt::Vertex_handle()) h = target;
-    reinsert(saved, touched);
-    one_ring(target, touched);
-    std::erase_if(touched, [&](std::uint32_t id) { return !m_vertices[id].alive; });
+    run_jobs();
+    for (std::uint32_t c : m_created) {
+        m_vertices[c].weight = 1;
+        m_vertices[c].z = interpolated_z(m_vertices[c].handle);
+    }
+    m_arena.clear();
     return tid;
+}
+
+// A vertex moved onto the edge b-c also takes the z the edge has there.
+void Mesh::take_edge_z(std::uint32_t v, std::uint32_t b, std::uint32_t c)
+{
+    const VertexRecord& rb = m_vertices[b];
+    const VertexRecord& rc = m_vertices[c];
+    const VertexRecord& t = m_vertices[v];
+    const double lb = std::hypot(t.x - rb.x, t.y - rb.y);
+    const double lc = std::hypot(t.x - rc.x, t.y - rc.y);
+    const double ze = lb + lc > 0 ? rb.z + (rc.z - rb.z) * lb / (lb + lc) : rb.z;
+    if (!std::isnan(ze)) {
+        m_vertices[v].z = std::isnan(t.z) ? ze : 0.5 * (t.z + ze);
+    }
 }
 
 void Mesh::note_snapped(std::uint32_t v, const std::vector<std::uint32_t>& owners)

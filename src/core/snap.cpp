@@ -13,6 +13,7 @@
 // crosses an edge: the rounded output keeps the contract and stays valid.
 #include "core/snap.hpp"
 
+#include "core/evidence.hpp"
 #include "core/extraction.hpp"
 #include "core/input_cleaning.hpp"
 #include "core/labelling.hpp"
@@ -55,46 +56,8 @@ detail::SnapperParams snapper_params(const SnapOptions& o, std::size_t vertices)
     p.edge_threshold = o.edge_separation * o.tolerance + margin;
     p.sliver_threshold = o.sliver_factor > 0 ? o.sliver_factor * o.tolerance + margin : 0.0;
     p.max_operations = o.max_operations ? o.max_operations : 20 * vertices + 1000;
+    p.verify = o.verify_fixpoint;
     return p;
-}
-
-// Polygon features whose own rings cross or overlap, found on the input triangulation:
-// a sub-edge the feature owns twice (overlapping edges), or a vertex lying inside two of its
-// input edges (two straight edges through one interior point either cross there or overlap).
-// A ring vertex touching another edge is not flagged: that is valid for a hole on its shell.
-std::vector<bool> self_intersecting(Mesh& mesh, std::size_t features, const Region& region)
-{
-    std::vector<bool> flag(features, false);
-    auto& tri = mesh.tri();
-    const std::vector<detail::SubEdgeOwner> owners = mesh.sub_edge_owners();
-    std::vector<std::uint32_t> seen;
-    for (std::size_t k = 0; k < owners.size();) {
-        std::size_t j = k;
-        seen.clear();
-        for (; j < owners.size() && owners[j].key == owners[k].key; ++j) {
-            const detail::Owner& ow = mesh.owner_at(owners[j].owner);
-            if (ow.line) continue;
-            if (std::find(seen.begin(), seen.end(), ow.feature) != seen.end()) {
-                const detail::VertexRecord &a = mesh.vertex(static_cast<std::uint32_t>(owners[k].key >> 32)),
-                                           &b = mesh.vertex(static_cast<std::uint32_t>(owners[k].key));
-                if (region.contains(0.5 * (a.x + b.x), 0.5 * (a.y + b.y))) flag[ow.feature] = true;
-            }
-            seen.push_back(ow.feature);
-        }
-        k = j;
-    }
-    std::unordered_map<std::uint64_t, int> inside; // (vertex, feature) -> edges passing through
-    for (auto cit = tri.constraints_begin(); cit != tri.constraints_end(); ++cit) {
-        const detail::Owner& ow = mesh.owner(*cit);
-        if (ow.line) continue;
-        auto first = tri.vertices_in_constraint_begin(*cit), last = tri.vertices_in_constraint_end(*cit);
-        for (auto it = std::next(first); it != last && std::next(it) != last; ++it) {
-            const std::uint64_t key = (std::uint64_t{(*it)->info().id} << 32) | ow.feature;
-            if (++inside[key] >= 2 && region.contains(mesh.vertex((*it)->info().id).x, mesh.vertex((*it)->info().id).y))
-                flag[ow.feature] = true;
-        }
-    }
-    return flag;
 }
 
 struct Context {
@@ -123,67 +86,9 @@ void report_outcome(Context& c, std::size_t f, const Geometry& g, double moved)
     if (detail::outcome_problems(c.clean[f], g, moved, c.options, c.result.problems)) ++c.result.stats.collapsed_features;
 }
 
-// An input edge of a polygon that no longer separates it from the outside (same membership
-// on both sides) lies in a part thinner than t that collapsed: a spike, a notch, a corridor
-// to a hole. Reported once per feature, at the smallest such place (deterministic).
-void report_collapsed_edges(Context& c, const detail::FaceLabels& labels)
-{
-    std::vector<std::size_t> count(c.clean.size(), 0);
-    std::vector<Coord> where(c.clean.size());
-    auto& tri = c.mesh.tri();
-    auto member = [&](cdt::Face_handle f, std::uint32_t feature) {
-        const std::vector<std::uint32_t>& set = labels.sets[f->info().label];
-        return std::binary_search(set.begin(), set.end(), feature);
-    };
-    for (auto cit = tri.constraints_begin(); cit != tri.constraints_end(); ++cit) {
-        const detail::Owner& o = c.mesh.owner(*cit);
-        if (o.line) continue;
-        cdt::Vertex_handle prev;
-        for (auto it = tri.vertices_in_constraint_begin(*cit); it != tri.vertices_in_constraint_end(*cit); prev = *it, ++it) {
-            cdt::Face_handle fh;
-            int i;
-            if (prev == cdt::Vertex_handle() || !tri.is_edge(prev, *it, fh, i)) continue;
-            if (member(fh, o.feature) != member(fh->neighbor(i), o.feature)) continue;
-            const detail::VertexRecord &a = c.mesh.vertex(prev->info().id), &b = c.mesh.vertex((*it)->info().id);
-            const Coord mid{0.5 * (a.x + b.x), 0.5 * (a.y + b.y)};
-            if (!c.options.report_region.contains(mid.x, mid.y)) continue;
-            if (count[o.feature]++ == 0 || std::tie(mid.x, mid.y) < std::tie(where[o.feature].x, where[o.feature].y))
-                where[o.feature] = mid;
-        }
-    }
-    for (std::size_t f = 0; f < c.clean.size(); ++f) {
-        if (count[f] == 0 || c.result.features[c.clean[f].index].geometry.empty()) continue;
-        c.result.problems.push_back(Problem{c.clean[f].id, ProblemCode::thin_part_collapsed,
-            std::to_string(count[f]) + " input edge pieces no longer bound the polygon: a part thinner than the tolerance collapsed",
-            where[f].x, where[f].y});
-    }
-}
-
-// How far each feature's output strays from its input, per input edge: the largest distance
-// from a vertex now on that edge's constraint to the original segment. Vertex moves alone miss
-// an edge bent by a cascade of splits (each < t, together several t on dense tangles).
-std::vector<double> edge_deviation(Context& c)
-{
-    std::vector<double> worst(c.clean.size(), 0.0);
-    auto& tri = c.mesh.tri();
-    for (auto cit = tri.constraints_begin(); cit != tri.constraints_end(); ++cit) {
-        const detail::Owner& o = c.mesh.owner(*cit);
-        const CleanFeature& cf = c.clean[o.feature];
-        const std::vector<Coord>& pts = o.line ? cf.lines[o.part] : cf.rings[o.part].points;
-        const Coord& a = pts[o.seg];
-        const Coord& b = pts[(o.seg + 1) % pts.size()];
-        for (auto it = tri.vertices_in_constraint_begin(*cit); it != tri.vertices_in_constraint_end(*cit); ++it) {
-            const detail::VertexRecord& r = c.mesh.vertex((*it)->info().id);
-            if (!c.options.report_region.contains(r.x, r.y)) continue;
-            worst[o.feature] = std::max(worst[o.feature], detail::distance_point_segment(r.x, r.y, a.x, a.y, b.x, b.y));
-        }
-    }
-    return worst;
-}
-
 void extract_all(Context& c, const detail::FaceLabels& labels)
 {
-    const std::vector<double> deviation = edge_deviation(c);
+    const std::vector<double> deviation = detail::edge_deviation(c.mesh, c.clean, c.options.report_region);
     auto lines = detail::collect_line_edges(c.mesh, c.clean.size());
     for (std::size_t f = 0; f < c.clean.size(); ++f) {
         const CleanFeature& cf = c.clean[f];
@@ -205,32 +110,6 @@ void extract_all(Context& c, const detail::FaceLabels& labels)
         out.max_displacement = std::max(feature_displacement(c, f), deviation[f]);
         c.result.stats.max_displacement = std::max(c.result.stats.max_displacement, out.max_displacement);
         report_outcome(c, f, out.geometry, out.max_displacement);
-    }
-}
-
-// Vertices the snapper could not settle: every feature with an edge at them is reported.
-void report_unresolved(Context& c, const detail::SnapperOutcome& outcome)
-{
-    const ProblemCode code = outcome.converged ? ProblemCode::separation_not_reached : ProblemCode::not_converged;
-    std::vector<std::uint32_t> owners;
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> hits; // feature, vertex
-    auto& tri = c.mesh.tri();
-    for (std::uint32_t v : outcome.unresolved) {
-        if (!c.options.report_region.contains(c.mesh.vertex(v).x, c.mesh.vertex(v).y)) continue;
-        auto vc = tri.incident_vertices(c.mesh.vertex(v).handle), done = vc;
-        do {
-            if (tri.is_infinite(vc)) continue;
-            c.mesh.owners_of_edge(v, vc->info().id, owners);
-            for (std::uint32_t o : owners) hits.emplace_back(c.mesh.owner_at(o).feature, v);
-        } while (++vc != done);
-    }
-    std::sort(hits.begin(), hits.end());
-    for (std::size_t k = 0; k < hits.size(); ++k) {
-        if (k > 0 && hits[k].first == hits[k - 1].first) continue;
-        const detail::VertexRecord& r = c.mesh.vertex(hits[k].second);
-        c.result.problems.push_back(Problem{c.clean[hits[k].first].id, code,
-            outcome.converged ? "a vertex stays closer than the tolerance allows (split refused: it already snapped into that edge)"
-                              : "operation cap reached before the fix-point", r.x, r.y});
     }
 }
 
@@ -285,20 +164,28 @@ SnapResult snap(const std::vector<Feature>& features, const SnapOptions& options
     Mesh mesh(clean, std::max({params.vertex_threshold, params.edge_threshold, params.sliver_threshold}));
     st.triangulation_vertices = mesh.tri().number_of_vertices() - Mesh::frame_vertices;
     st.intersections = mesh.intersections();
-    const std::vector<bool> crossing = self_intersecting(mesh, clean.size(), options.report_region);
+    const std::vector<bool> crossing = detail::self_intersecting(mesh, clean.size(), options.report_region);
     for (std::size_t f = 0; f < clean.size(); ++f)
         if (crossing[f]) result.problems.push_back(Problem{clean[f].id, ProblemCode::self_intersection,
             "rings cross or overlap; repaired with the odd-even rule", clean[f].rings[0].points[0].x, clean[f].rings[0].points[0].y});
     st.seconds_triangulate = clock.lap();
     const detail::SnapperOutcome outcome = detail::run_snapper(mesh, params);
-    st.merges = outcome.merges, st.splits = outcome.splits, st.rounds = outcome.rounds;
+    st.merges = outcome.merges;
+    st.splits = outcome.splits;
+    st.rounds = outcome.rounds;
+    st.faces_visited = outcome.faces_visited;
+    st.fixpoint_misses = outcome.fixpoint_misses;
     st.seconds_snap = clock.lap();
     const detail::FaceLabels labels = detail::label_faces(mesh, clean.size());
     st.seconds_label = clock.lap();
     Context ctx{options, clean, mesh, result};
     extract_all(ctx, labels);
-    report_collapsed_edges(ctx, labels);
-    report_unresolved(ctx, outcome);
+    std::vector<bool> written(clean.size());
+    for (std::size_t f = 0; f < clean.size(); ++f) {
+        written[f] = !result.features[clean[f].index].geometry.empty();
+    }
+    detail::report_collapsed_edges(mesh, labels, clean, written, options.report_region, result.problems);
+    detail::report_unresolved(mesh, outcome, clean, options.report_region, result.problems);
     st.output_vertices = mesh.tri().number_of_vertices() - Mesh::frame_vertices;
     st.seconds_extract = clock.lap();
     std::stable_sort(result.problems.begin(), result.problems.end(), [](const Problem& a, const Problem& b) {

@@ -5,6 +5,7 @@
 #include "core/problems.hpp"
 
 #include <cstddef>
+#include <cstdio>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -23,9 +24,24 @@ struct Region {
     friend bool operator==(const Region&, const Region&) = default;
 };
 
+/// The tolerances the engine accepts: 2^-480 (~3.2e-145) to 2^480 (~3.1e144). Every distance
+/// the engine, the tiles and the stitcher derive from t (t*t, halos of up to 32*2^10 t, frames
+/// of 4 x reach, squared distances compared with t*t) must stay a finite, normal double: at
+/// t = 1e308 sums overflowed to infinity (a segmentation fault), at t = 1e-202 t*t underflowed
+/// to 0 and every polygon looked "thinner than the tolerance". The bounds leave 2^500 of
+/// headroom on both sides, far beyond any GIS layer (coordinates stop at 2^500, see
+/// k_max_coordinate).
+inline constexpr double k_min_tolerance = 0x1p-480;
+inline constexpr double k_max_tolerance = 0x1p+480;
+
+/// Coordinates beyond +-2^500 (~3.3e150) are problem 109 (huge coordinate) at any tolerance:
+/// squared differences of coordinates must not overflow (2^1002 < 2^1024).
+inline constexpr double k_max_coordinate = 0x1p+500;
+
 /// What the engine does; every field says what changes when you flip it.
 struct SnapOptions {
-    /// t, in layer units: output vertices end up >= t apart. Must be finite and > 0.
+    /// t, in layer units: output vertices end up >= t apart. Must be in [k_min_tolerance,
+    /// k_max_tolerance].
     double tolerance = 0.0;
     /// Vertex-edge promise as a factor of t: every vertex ends up >= edge_separation*t from every
     /// edge it is not an endpoint of. 0.5 is the snap-rounding guarantee (ISR, S2Builder); larger
@@ -51,6 +67,10 @@ struct SnapOptions {
     /// when they lie in this box. The default counts everything. Tiles set it to their core, so
     /// each piece of evidence is reported by exactly one tile; snapping itself is not affected.
     Region report_region;
+    /// Tests: after the run, scan everything once more and count snapping events that would
+    /// still apply (stats.fixpoint_misses; 0 when the engine's local re-discovery is complete).
+    /// Costs one more full scan; off in normal runs.
+    bool verify_fixpoint = false;
 };
 
 /// Counters and timings of one engine run; merge runs (tiles) with +=.
@@ -62,7 +82,9 @@ struct SnapStats {
     std::size_t intersections = 0;          ///< vertices created where input edges cross
     std::size_t merges = 0;                 ///< cases 1 and 2
     std::size_t splits = 0;                 ///< cases 3 and 4
-    std::size_t rounds = 0;                 ///< full verification scans (>= 1)
+    std::size_t rounds = 0;                 ///< passes over the event queue (1 + re-checks of blocked merges)
+    std::size_t faces_visited = 0;          ///< faces the snapper's searches walked or re-examined (its work)
+    std::size_t fixpoint_misses = 0;        ///< with verify_fixpoint: events still applicable at the end
     std::size_t collapsed_features = 0;
     double max_displacement = 0.0;          ///< largest vertex move, layer units
     double seconds_triangulate = 0.0;
@@ -85,6 +107,20 @@ struct SnapResult {
     std::vector<Problem> problems;       ///< sorted by feature id, then code
     SnapStats stats;
 };
+
+/// "" when t is within [k_min_tolerance, k_max_tolerance], else a one-line reason (a NaN
+/// is out of range too). Inline: the config checks it without linking the engine.
+inline std::string tolerance_range_error(double t)
+{
+    if (t >= k_min_tolerance && t <= k_max_tolerance) {
+        return {};
+    }
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "tolerance %g is out of range [%g, %g]: its square and multiples would %s double precision", t,
+                  k_min_tolerance, k_max_tolerance, t > 1 ? "overflow" : "underflow");
+    return text;
+}
 
 /// Checks options; returns an empty string when they are usable, else a one-line reason
 /// naming the option (e.g. "tolerance must be finite and > 0, got -1").

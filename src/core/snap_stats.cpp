@@ -16,6 +16,8 @@ SnapStats& SnapStats::operator+=(const SnapStats& o)
     merges += o.merges;
     splits += o.splits;
     rounds = std::max(rounds, o.rounds);
+    faces_visited += o.faces_visited;
+    fixpoint_misses += o.fixpoint_misses;
     collapsed_features += o.collapsed_features;
     max_displacement = std::max(max_displacement, o.max_displacement);
     seconds_triangulate += o.seconds_triangulate;
@@ -29,6 +31,9 @@ std::string validate(const SnapOptions& o)
 {
     auto fmt = [](const char* what, double v) { return std::string(what) + ", got " + std::to_string(v); };
     if (!std::isfinite(o.tolerance) || o.tolerance <= 0) return fmt("tolerance must be finite and > 0", o.tolerance);
+    if (const std::string range = tolerance_range_error(o.tolerance); !range.empty()) {
+        return range;
+    }
     if (!(o.edge_separation > 0 && o.edge_separation <= 1)) return fmt("edge_separation must be in (0, 1]", o.edge_separation);
     if (!(o.sliver_factor >= 0 && o.sliver_factor <= 1)) return fmt("sliver_factor must be in [0, 1]", o.sliver_factor);
     if (!(o.grid >= 0 && o.grid <= o.tolerance / 4)) return fmt("grid must be >= 0 and <= tolerance/4", o.grid);

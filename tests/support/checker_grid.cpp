@@ -12,6 +12,15 @@ double point_segment_distance(double px, double py, const Segment& s) {
     return std::hypot(px - (s.ax + u * dx), py - (s.ay + u * dy));
 }
 
+namespace {
+
+/// Length of a segment, DBL_MAX when it overflows (coordinates near +-1e308).
+double clamped_length(const Segment& s) {
+    return std::min(std::hypot(s.bx - s.ax, s.by - s.ay), std::numeric_limits<double>::max());
+}
+
+} // namespace
+
 SegmentGrid::SegmentGrid(const std::vector<Segment>& segments, double min_cell)
     : m_segments(segments), m_seen(segments.size(), 0) {
     if (segments.empty())
@@ -36,12 +45,12 @@ void SegmentGrid::choose_cell(double min_cell) {
         m_y0 = std::min({m_y0, s.ay, s.by});
         m_x1 = std::max({m_x1, s.ax, s.bx});
         m_y1 = std::max({m_y1, s.ay, s.by});
-        lengths.push_back(std::hypot(s.bx - s.ax, s.by - s.ay));
+        lengths.push_back(clamped_length(s));
     }
     auto median = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2);
     std::nth_element(lengths.begin(), median, lengths.end());
-    const double extent = std::max(m_x1 - m_x0, m_y1 - m_y0);
-    m_cell = std::max({min_cell, *median, extent / 2147483648.0});
+    const double half_extent = std::max(m_x1 / 2 - m_x0 / 2, m_y1 / 2 - m_y0 / 2); // cannot overflow
+    m_cell = std::max({min_cell, *median, half_extent / 1073741824.0});
     if (!(m_cell > 0.0))
         m_cell = 1.0;
     auto pieces = [&] {
@@ -58,7 +67,7 @@ void SegmentGrid::choose_cell(double min_cell) {
 
 void SegmentGrid::file_segment(std::uint32_t index) {
     const Segment& s = m_segments[index];
-    const double len = std::hypot(s.bx - s.ax, s.by - s.ay);
+    const double len = clamped_length(s);
     const auto n = static_cast<std::int64_t>(std::max(1.0, std::ceil(len / m_cell)));
     // Pieces are computed in floating point: widen their boxes a hair so that rounding at a
     // piece boundary cannot leave a cell of the true segment out.
@@ -66,9 +75,10 @@ void SegmentGrid::file_segment(std::uint32_t index) {
     for (std::int64_t k = 0; k < n; ++k) {
         const double u0 = static_cast<double>(k) / static_cast<double>(n);
         const double u1 = k + 1 == n ? 1.0 : static_cast<double>(k + 1) / static_cast<double>(n);
-        const double x0 = s.ax + (s.bx - s.ax) * u0, y0 = s.ay + (s.by - s.ay) * u0;
-        const double x1 = k + 1 == n ? s.bx : s.ax + (s.bx - s.ax) * u1;
-        const double y1 = k + 1 == n ? s.by : s.ay + (s.by - s.ay) * u1;
+        // std::lerp: exact at the ends and no overflow of bx - ax.
+        const double x0 = std::lerp(s.ax, s.bx, u0), y0 = std::lerp(s.ay, s.by, u0);
+        const double x1 = k + 1 == n ? s.bx : std::lerp(s.ax, s.bx, u1);
+        const double y1 = k + 1 == n ? s.by : std::lerp(s.ay, s.by, u1);
         const std::int64_t cx0 = std::max<std::int64_t>(0, cell_x(std::min(x0, x1) - eps));
         const std::int64_t cx1 = std::min(m_nx - 1, cell_x(std::max(x0, x1) + eps));
         const std::int64_t cy0 = std::max<std::int64_t>(0, cell_y(std::min(y0, y1) - eps));

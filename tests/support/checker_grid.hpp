@@ -36,8 +36,15 @@ public:
                              double start_radius) const;
 
 private:
-    std::int64_t cell_x(double x) const { return static_cast<std::int64_t>(std::floor((x - m_x0) / m_cell)); }
-    std::int64_t cell_y(double y) const { return static_cast<std::int64_t>(std::floor((y - m_y0) / m_cell)); }
+    // (x/2 - x0/2) / (cell/2): the difference of coordinates near +-1e308 would overflow, and so
+    // would x / cell for a huge x at a tiny cell (both found by fuzz_snap). The quotient is
+    // clamped before the cast; within the extent it stays below 2^31 (cell >= half extent / 2^30).
+    static std::int64_t cell_of(double v, double v0, double cell) {
+        const double q = std::floor((v / 2 - v0 / 2) / (cell / 2));
+        return static_cast<std::int64_t>(std::clamp(q, -1.0, 4294967296.0));
+    }
+    std::int64_t cell_x(double x) const { return cell_of(x, m_x0, m_cell); }
+    std::int64_t cell_y(double y) const { return cell_of(y, m_y0, m_cell); }
     static std::uint64_t key(std::int64_t cx, std::int64_t cy) {
         return (static_cast<std::uint64_t>(cx) << 32) | static_cast<std::uint64_t>(cy);
     }

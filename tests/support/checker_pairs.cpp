@@ -224,18 +224,25 @@ void PairScan::relate(std::size_t i, std::size_t j, std::map<IdPair, PairState>&
     const SideFeature& a = m_side.features[i];
     const SideFeature& b = m_side.features[j];
     const Relation r = classify(i, j);
+    const IdPair key = std::minmax(a.id, b.id);
     if (r.failed) {
         examples.add("geos", "GEOS relate failed for ids " + std::to_string(a.id) + " and " +
                                  std::to_string(b.id) + ": " + m_ctx.last_error());
+        // Unmeasured counts as overlapping: on the input side an output overlap is then not
+        // called new (GEOS failed on an invalid input, found by fuzz_snap), on the output side
+        // it is one unless the input overlapped (a checker must not pass what it cannot see).
+        out[key].overlap = true;
         return;
     }
     PairState state;
-    const IdPair key = std::minmax(a.id, b.id);
     if (r.interiors_meet && m_before && m_before->count(key) && m_before->at(key).overlap) {
         state.overlap = true;
     } else if (r.interiors_meet) {
         const Measure m = r.inside ? area_of(r.inside) : overlay_measure(a.pair_geom(), b.pair_geom(), false);
-        state.overlap = m.value > 1e-9 * m_t * m_t;
+        // Relate says the interiors meet in an area; an overlay area of exactly 0 is then an
+        // overlay that lost it (GEOS at coordinates near 1e104, found by fuzz_snap), not "no
+        // overlap": like a failing overlay, it counts as an overlap.
+        state.overlap = m.value > 1e-9 * m_t * m_t || m.value == 0.0;
         state.x = m.x;
         state.y = m.y;
     }

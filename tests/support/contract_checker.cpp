@@ -2,11 +2,11 @@
 
 #include "checker_detail.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
-#include <unordered_set>
 
 namespace trisnap {
 namespace checker_detail {
@@ -36,20 +36,60 @@ std::string distance_text(double d, double t) {
 
 namespace {
 
-void count_presence(const Side& in, const Side& out, const std::vector<std::int64_t>& problem_ids,
+bool has_code(const std::vector<int>& codes, int code) {
+    return std::find(codes.begin(), codes.end(), code) != codes.end();
+}
+
+/// Ids with a problem whose code is in `codes`, sorted and unique.
+std::vector<std::int64_t> ids_with(const std::vector<ReportedProblem>& problems,
+                                   const std::vector<int>& codes) {
+    std::vector<std::int64_t> ids;
+    for (const ReportedProblem& p : problems) {
+        if (has_code(codes, p.code)) {
+            ids.push_back(p.id);
+        }
+    }
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    return ids;
+}
+
+bool contains(const std::vector<std::int64_t>& sorted, std::int64_t id) {
+    return std::binary_search(sorted.begin(), sorted.end(), id);
+}
+
+bool is_output(const Side& out, std::int64_t id) {
+    auto it = out.by_id.find(id);
+    return it != out.by_id.end() && out.features[it->second].present();
+}
+
+void count_presence(const Side& in, const Side& out, const std::vector<std::int64_t>& not_written,
                     ContractReport& report, Examples& examples) {
-    const std::unordered_set<std::int64_t> problems(problem_ids.begin(), problem_ids.end());
     report.n_in = in.features.size();
-    for (const SideFeature& f : out.features)
+    for (const SideFeature& f : out.features) {
         report.n_out += f.present() ? 1 : 0;
+    }
     for (const SideFeature& f : in.features) {
-        auto it = out.by_id.find(f.id);
-        const bool output = it != out.by_id.end() && out.features[it->second].present();
-        if (output || problems.count(f.id))
+        if (is_output(out, f.id) || contains(not_written, f.id)) {
             continue;
+        }
         ++report.n_missing;
         examples.add("missing", "missing: id " + std::to_string(f.id) +
-                                    " has no output and no problem");
+                                    " has no output and no problem saying it is not written");
+    }
+}
+
+void count_flagged(const Side& out, const std::vector<std::int64_t>& flagged, ContractReport& report,
+                   Examples& examples) {
+    for (std::int64_t id : flagged) {
+        if (!is_output(out, id)) {
+            continue;
+        }
+        ++report.n_flagged;
+        if (report.n_flagged > report.max_flagged) {
+            examples.add("flagged", "flagged beyond the case's allowance of " +
+                                        std::to_string(report.max_flagged) + ": id " + std::to_string(id));
+        }
     }
 }
 
@@ -90,31 +130,38 @@ std::string min_text(double d, double t) {
 
 ContractReport check_contract(const std::vector<CheckedFeature>& input,
                               const std::vector<CheckedFeature>& output,
-                              const std::vector<std::int64_t>& problem_ids, double tolerance,
-                              double edge_factor,
-                              const std::vector<std::int64_t>& drift_reported) {
+                              const std::vector<ReportedProblem>& problems, double tolerance,
+                              const ContractRules& rules) {
     using namespace checker_detail;
     if (!(tolerance > 0.0) || !std::isfinite(tolerance))
         throw std::invalid_argument("check_contract: tolerance must be finite and > 0");
     GeosContext ctx;
     const Side in = load_side(ctx, input, true);
     const Side out = load_side(ctx, output, false);
+    const std::vector<std::int64_t> exempt = ids_with(problems, rules.drift_codes);
     ContractReport report;
     report.tolerance = tolerance;
+    report.max_flagged = rules.max_flagged;
     Examples examples(report.examples);
-    count_presence(in, out, problem_ids, report, examples);
+    count_presence(in, out, ids_with(problems, rules.not_written_codes), report, examples);
+    count_flagged(out, exempt, report, examples);
     check_validity(ctx, in, out, report, examples);
-    measure_spacing(out, tolerance, edge_factor, report, examples);
-    measure_hausdorff(in, out, tolerance, drift_reported, report, examples);
-    check_pairs(ctx, in, out, tolerance, drift_reported, report, examples);
+    measure_spacing(out, tolerance, rules.edge_factor, report, examples);
+    measure_hausdorff(in, out, tolerance, exempt, report, examples);
+    check_pairs(ctx, in, out, tolerance, exempt, report, examples);
     return report;
+}
+
+ContractReport check_contract(const std::vector<CheckedFeature>& input,
+                              const std::vector<CheckedFeature>& output, double tolerance) {
+    return check_contract(input, output, {}, tolerance, ContractRules{});
 }
 
 bool ContractReport::ok(double t, double edge_factor, double max_drift) const {
     const double slack = 1.0 - 1e-9; // distances computed in floating point
     return n_missing == 0 && n_invalid == 0 && min_vertex_vertex >= t * slack &&
            min_vertex_edge >= edge_factor * t * slack && max_hausdorff <= max_drift &&
-           n_overlaps_new == 0 && n_shared_lost == 0;
+           n_overlaps_new == 0 && n_shared_lost == 0 && n_flagged <= max_flagged;
 }
 
 std::string ContractReport::summary() const {
@@ -124,7 +171,8 @@ std::string ContractReport::summary() const {
     std::ostringstream s;
     s << "contract at t=" << tolerance << ": " << n_in << " in, " << n_out << " out, "
       << n_missing << " missing, " << n_invalid << " invalid, " << n_overlaps_new
-      << " new overlaps, " << n_shared_lost << " shared boundaries lost\n"
+      << " new overlaps, " << n_shared_lost << " shared boundaries lost, " << n_flagged
+      << " flagged (at most " << max_flagged << " allowed)\n"
       << "  min vertex-vertex " << min_text(min_vertex_vertex, t) << " (" << n_close_vertex_pairs
       << " pairs < t), min vertex-edge " << min_text(min_vertex_edge, t) << " ("
       << n_close_vertex_edge << " pairs < edge factor), max Hausdorff "

@@ -6,7 +6,13 @@
 // segment pieces, GEOS STRtree over features), so 2*10^5 vertices take seconds, not hours.
 //
 // What it measures, for output `out` of snapping input `in` at tolerance t:
-//  - n_missing: input ids neither in the output (non-empty) nor among problem ids;
+//  - n_missing: input ids with no (non-empty) output and no problem whose code says the feature
+//    is not written (ContractRules::not_written_codes): a feature that only had, say, repeated
+//    points removed (102) and vanished is missing;
+//  - n_flagged: output features carrying a problem code that exempts them from the drift and
+//    shared-boundary checks (ContractRules::drift_codes); more than the case allows
+//    (ContractRules::max_flagged) breaks the contract, so an engine that flags everything
+//    cannot pass;
 //  - n_invalid: output features GEOS calls invalid (or unparsable, of another dimension than
 //    their input, or with an id that is not in the input);
 //  - min_vertex_vertex: smallest distance between two DISTINCT output coordinates (equal
@@ -33,11 +39,35 @@ struct CheckedFeature {
     std::string wkt; ///< empty text or "... EMPTY" means the feature has no output geometry
 };
 
+/// A problem the engine reported, as the checker sees it: the feature and the code's number
+/// (the checker knows no engine type on purpose).
+struct ReportedProblem {
+    std::int64_t id = 0;
+    int code = 0;
+};
+
+/// What a test case allows. The code lists come from the caller (the engine's catalogue is not
+/// the checker's business); max_flagged is stated per case.
+struct ContractRules {
+    /// Vertex-edge promise as a factor of t (decides n_close_vertex_edge and ok()).
+    double edge_factor = 0.5;
+    /// Codes meaning "this feature is not in the output": only these excuse a missing feature.
+    std::vector<int> not_written_codes;
+    /// Codes after which a feature may legitimately drift further than 2t and lose shared
+    /// boundaries (part of it collapsed or was repaired): such features are left out of
+    /// max_hausdorff and n_shared_lost (new overlaps are still counted for them).
+    std::vector<int> drift_codes;
+    /// At most this many output features may carry a drift code.
+    std::size_t max_flagged = 0;
+};
+
 struct ContractReport {
     double tolerance = 0.0;
     std::size_t n_in = 0;
     std::size_t n_out = 0; ///< output features with a non-empty geometry
     std::size_t n_missing = 0;
+    std::size_t n_flagged = 0;   ///< output features exempt from drift and shared-boundary checks
+    std::size_t max_flagged = 0; ///< as the rules allowed
     std::size_t n_invalid = 0;
     std::size_t n_overlaps_new = 0;
     std::size_t n_shared_lost = 0;
@@ -51,23 +81,24 @@ struct ContractReport {
     std::vector<std::string> examples;
 
     /// True when every promise holds: nothing missing or invalid, vertices >= t apart, vertices
-    /// >= edge_factor*t from edges, Hausdorff <= max_drift, no new overlaps, no lost boundaries.
+    /// >= edge_factor*t from edges, Hausdorff <= max_drift, no new overlaps, no lost boundaries,
+    /// no more flagged features than allowed.
     bool ok(double t, double edge_factor, double max_drift) const;
     /// A few lines: counts, minima in units of t, then the examples.
     std::string summary() const;
 };
 
-/// Measures the contract. `edge_factor` only decides which vertex-edge pairs are counted in
-/// n_close_vertex_edge and listed as examples; ok() decides pass or fail. Throws
-/// std::invalid_argument when an INPUT WKT does not parse or tolerance is not > 0 (a bad test),
-/// while an unparsable output is counted as invalid. Features in `drift_reported` (the engine
-/// reported that part of them collapsed, so they legitimately moved further) are left out of
-/// max_hausdorff and of n_shared_lost (new overlaps are still counted for them).
+/// Measures the contract. Throws std::invalid_argument when an INPUT WKT does not parse or
+/// tolerance is not > 0 (a bad test), while an unparsable output is counted as invalid.
 ContractReport check_contract(const std::vector<CheckedFeature>& input,
                               const std::vector<CheckedFeature>& output,
-                              const std::vector<std::int64_t>& problem_ids, double tolerance,
-                              double edge_factor = 0.5,
-                              const std::vector<std::int64_t>& drift_reported = {});
+                              const std::vector<ReportedProblem>& problems, double tolerance,
+                              const ContractRules& rules);
+
+/// Rules for checker self-tests on hand-made outputs: no problem excuses anything, nothing may
+/// be flagged, vertex-edge factor 0.5.
+ContractReport check_contract(const std::vector<CheckedFeature>& input,
+                              const std::vector<CheckedFeature>& output, double tolerance);
 
 /// GoogleTest adaptor: EXPECT_TRUE(contract_holds(report, t)) prints the summary on failure.
 ::testing::AssertionResult contract_holds(const ContractReport& report, double t,

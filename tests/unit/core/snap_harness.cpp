@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <sstream>
 
 namespace trisnap {
@@ -54,19 +55,46 @@ Geometry checkable(const Geometry& g) {
 
 } // namespace
 
-bool is_drift_code(ProblemCode code) {
-    switch (code) {
-    case ProblemCode::self_intersection:
-    case ProblemCode::collapsed_polygon:
-    case ProblemCode::collapsed_line:
-    case ProblemCode::part_removed:
-    case ProblemCode::hole_removed:
-    case ProblemCode::drift_exceeded:
-    case ProblemCode::thin_part_collapsed:
-        return true;
-    default:
-        return false;
+std::vector<int> code_numbers(std::initializer_list<ProblemCode> codes) {
+    std::vector<int> out;
+    for (ProblemCode c : codes) {
+        out.push_back(static_cast<int>(c));
     }
+    return out;
+}
+
+const std::vector<int>& not_written_codes() {
+    static const std::vector<int> codes = code_numbers(
+        {ProblemCode::non_finite_coordinate, ProblemCode::empty_geometry, ProblemCode::unsupported_geometry,
+         ProblemCode::huge_coordinate, ProblemCode::collapsed_polygon, ProblemCode::collapsed_line,
+         ProblemCode::unreadable_feature, ProblemCode::unwritable_feature});
+    return codes;
+}
+
+const std::vector<int>& drift_codes() {
+    static const std::vector<int> codes = code_numbers(
+        {ProblemCode::self_intersection, ProblemCode::collapsed_polygon, ProblemCode::collapsed_line,
+         ProblemCode::part_removed, ProblemCode::hole_removed, ProblemCode::drift_exceeded,
+         ProblemCode::thin_part_collapsed});
+    return codes;
+}
+
+ContractRules engine_rules(const SnapOptions& options, std::size_t max_flagged) {
+    ContractRules rules;
+    rules.edge_factor = options.edge_separation;
+    rules.not_written_codes = not_written_codes();
+    rules.drift_codes = drift_codes();
+    rules.max_flagged = max_flagged;
+    return rules;
+}
+
+std::vector<ReportedProblem> reported_problems(const SnapResult& result) {
+    std::vector<ReportedProblem> out;
+    out.reserve(result.problems.size());
+    for (const Problem& p : result.problems) {
+        out.push_back({p.feature_id, static_cast<int>(p.code)});
+    }
+    return out;
 }
 
 std::vector<CheckedFeature> checked_features(const std::vector<Feature>& features) {
@@ -87,34 +115,21 @@ std::vector<CheckedFeature> checked_features(const SnapResult& result) {
     return out;
 }
 
-std::vector<std::int64_t> problem_ids(const SnapResult& result) {
-    std::vector<std::int64_t> ids;
-    for (const Problem& p : result.problems)
-        ids.push_back(p.feature_id);
-    std::sort(ids.begin(), ids.end());
-    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-    return ids;
-}
-
-std::vector<std::int64_t> drift_reported_ids(const SnapResult& result) {
-    std::vector<std::int64_t> ids;
-    for (const Problem& p : result.problems)
-        if (is_drift_code(p.code))
-            ids.push_back(p.feature_id);
-    std::sort(ids.begin(), ids.end());
-    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-    return ids;
-}
-
-CheckedRun snap_and_check(const std::vector<Feature>& input, const SnapOptions& options) {
+CheckedRun snap_and_check(const std::vector<Feature>& input, const SnapOptions& options,
+                          std::size_t max_flagged) {
     CheckedRun run;
+    // Every checked run also verifies the snapper's fix-point: a full scan at the end must find
+    // no event the local re-discovery after each edit missed.
+    SnapOptions verified = options;
+    verified.verify_fixpoint = true;
     auto start = std::chrono::steady_clock::now();
-    run.result = snap(input, options);
+    run.result = snap(input, verified);
     run.seconds_snap = seconds_since(start);
+    EXPECT_EQ(run.result.stats.fixpoint_misses, 0u) << "snapping events the engine's re-discovery missed";
     start = std::chrono::steady_clock::now();
     run.report = check_contract(checked_features(input), checked_features(run.result),
-                                problem_ids(run.result), options.tolerance,
-                                options.edge_separation, drift_reported_ids(run.result));
+                                reported_problems(run.result), options.tolerance,
+                                engine_rules(options, max_flagged));
     run.seconds_check = seconds_since(start);
     return run;
 }
@@ -173,7 +188,8 @@ std::string figures_line(const std::string& name, const CheckedRun& run, double 
         << " min_vv=" << r.min_vertex_vertex / t << "t min_ve=" << r.min_vertex_edge / t
         << "t max_hausdorff=" << r.max_hausdorff / t << "t (id " << r.max_hausdorff_id << ")"
         << " overlaps_new=" << r.n_overlaps_new << " shared_lost=" << r.n_shared_lost
-        << " invalid=" << r.n_invalid << " missing=" << r.n_missing << " problems={";
+        << " invalid=" << r.n_invalid << " missing=" << r.n_missing << " flagged=" << r.n_flagged
+        << " problems={";
     for (const auto& [code, n] : codes)
         out << code << ":" << n << " ";
     out << "} snap=" << run.seconds_snap << "s check=" << run.seconds_check << "s";

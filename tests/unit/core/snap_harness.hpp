@@ -13,9 +13,22 @@
 
 namespace trisnap {
 
-/// Problem codes after which a feature may legitimately drift further than 2t (part of it
-/// collapsed or was repaired), so the checker leaves it out of max_hausdorff.
-bool is_drift_code(ProblemCode code);
+/// Problem codes that mean "this feature is not in the output" (README "What you get"):
+/// rejected on input (106 non-finite, 107 empty, 108 unsupported type, 109 huge coordinate),
+/// collapsed entirely (201, 202), or not read or written by the driver (901, 902). No other
+/// code may excuse a missing feature: 102 (repeated points removed) says the feature stays.
+const std::vector<int>& not_written_codes();
+
+/// Problem codes after which a feature may legitimately drift further than 2t and lose shared
+/// boundaries (part of it collapsed or was repaired): 105, 201-204, 206, 209.
+const std::vector<int>& drift_codes();
+
+/// The checker's rules for an engine run with `options`, allowing `max_flagged` features to
+/// carry a drift code (each test case states how many it expects at most).
+ContractRules engine_rules(const SnapOptions& options, std::size_t max_flagged);
+
+/// The problems as the checker sees them (id, code number).
+std::vector<ReportedProblem> reported_problems(const SnapResult& result);
 
 struct CheckedRun {
     SnapResult result;
@@ -28,12 +41,13 @@ struct CheckedRun {
 /// under 2 dropped, features with a non-finite coordinate emptied (GEOS rejects all of these).
 std::vector<CheckedFeature> checked_features(const std::vector<Feature>& features);
 std::vector<CheckedFeature> checked_features(const SnapResult& result);
-std::vector<std::int64_t> problem_ids(const SnapResult& result);
-std::vector<std::int64_t> drift_reported_ids(const SnapResult& result);
 
-/// Snaps `input` with `options` and measures the contract at options.tolerance, with the
-/// engine's edge_separation as the checker's edge factor.
-CheckedRun snap_and_check(const std::vector<Feature>& input, const SnapOptions& options);
+/// Snaps `input` with `options` (and verify_fixpoint: expects no missed snapping event) and
+/// measures the contract at options.tolerance, with the engine's edge_separation as the
+/// checker's edge factor and at most `max_flagged` features exempt from the drift and
+/// shared-boundary checks.
+CheckedRun snap_and_check(const std::vector<Feature>& input, const SnapOptions& options,
+                          std::size_t max_flagged);
 
 /// Options with only the tolerance (and optionally the grid) set.
 SnapOptions options_at(double tolerance, double grid = 0.0);
@@ -54,3 +68,4 @@ std::vector<Feature> output_as_input(const SnapResult& result);
 std::string figures_line(const std::string& name, const CheckedRun& run, double t);
 
 } // namespace trisnap
+

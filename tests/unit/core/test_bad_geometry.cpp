@@ -16,10 +16,11 @@ constexpr double t = 1.0;
 
 Feature feature(std::int64_t id, const std::string& wkt) { return {id, read_wkt(wkt)}; }
 
-/// The feature under test (id 1) beside a healthy square (id 2), which must come out unchanged.
-CheckedRun run_beside_square(const std::string& wkt) {
+/// The feature under test (id 1) beside a healthy square (id 2), which must come out unchanged;
+/// `max_flagged`: 1 when the feature under test is repaired (105), else 0.
+CheckedRun run_beside_square(const std::string& wkt, std::size_t max_flagged = 0) {
     return snap_and_check({feature(1, wkt), feature(2, "POLYGON ((20 0, 30 0, 30 10, 20 10, 20 0))")},
-                          options_at(t));
+                          options_at(t), max_flagged);
 }
 
 void expect_square_untouched(const CheckedRun& run) {
@@ -30,7 +31,7 @@ void expect_square_untouched(const CheckedRun& run) {
 TEST(BadGeometry, NanCoordinateRejectsTheFeatureWith106) {
     Feature f = feature(1, "POLYGON ((0 0, 10 0, 10 10, 0 10, 0 0))");
     f.geometry.polygons[0].rings[0][2].x = std::numeric_limits<double>::quiet_NaN();
-    const CheckedRun run = snap_and_check({f, feature(2, "POLYGON ((20 0, 30 0, 30 10, 20 10, 20 0))")}, options_at(t));
+    const CheckedRun run = snap_and_check({f, feature(2, "POLYGON ((20 0, 30 0, 30 10, 20 10, 20 0))")}, options_at(t), 0);
     EXPECT_TRUE(has_problem(run.result, 1, ProblemCode::non_finite_coordinate)) << problem_lines(run.result.problems);
     EXPECT_TRUE(run.result.features[0].geometry.empty());
     expect_square_untouched(run);
@@ -98,7 +99,7 @@ TEST(BadGeometry, LineWithOneDistinctPointIsReportedWith104) {
 }
 
 TEST(BadGeometry, SelfIntersectingRingIsRepairedWith105) {
-    const CheckedRun run = run_beside_square("POLYGON ((0 0, 10 10, 10 0, 0 10, 0 0))");
+    const CheckedRun run = run_beside_square("POLYGON ((0 0, 10 10, 10 0, 0 10, 0 0))", 1);
     EXPECT_TRUE(has_problem(run.result, 1, ProblemCode::self_intersection)) << problem_lines(run.result.problems);
     EXPECT_EQ(run.result.features[0].geometry.polygons.size(), 2u);
     EXPECT_TRUE(contract_holds(run.report, t));
@@ -107,7 +108,7 @@ TEST(BadGeometry, SelfIntersectingRingIsRepairedWith105) {
 TEST(BadGeometry, OverlappingRingsOfOneFeatureAreRepairedWith105) {
     // Two shells of one multipolygon that overlap: the odd-even rule leaves the overlap out.
     const CheckedRun run = run_beside_square(
-        "MULTIPOLYGON (((0 0, 6 0, 6 6, 0 6, 0 0)), ((3 3, 9 3, 9 9, 3 9, 3 3)))");
+        "MULTIPOLYGON (((0 0, 6 0, 6 6, 0 6, 0 0)), ((3 3, 9 3, 9 9, 3 9, 3 3)))", 1);
     EXPECT_TRUE(has_problem(run.result, 1, ProblemCode::self_intersection)) << problem_lines(run.result.problems);
     EXPECT_TRUE(contract_holds(run.report, t));
 }
@@ -115,7 +116,7 @@ TEST(BadGeometry, OverlappingRingsOfOneFeatureAreRepairedWith105) {
 TEST(BadGeometry, DuplicateFeatureIdsAreAllAnswered) {
     const CheckedRun run = snap_and_check({feature(7, "POLYGON ((0 0, 10 0, 10 10, 0 10, 0 0))"),
                                            feature(7, "POLYGON ((20 0, 30 0, 30 10, 20 10, 20 0))")},
-                                          options_at(t));
+                                          options_at(t), 0);
     ASSERT_EQ(run.result.features.size(), 2u);
     EXPECT_FALSE(run.result.features[0].geometry.empty());
     EXPECT_FALSE(run.result.features[1].geometry.empty());

@@ -21,6 +21,9 @@ struct CoverageCase {
     double tolerance;     ///< cells are 10 units wide
     double wiggle = 0.002;
     std::uint64_t seed = 1;
+    /// Features the engine may flag (209 at corners where jitter brings three vertices within t),
+    /// as measured when the bound was introduced: more means the engine got worse here.
+    std::size_t max_flagged = 0;
 };
 
 std::ostream& operator<<(std::ostream& os, const CoverageCase& c) {
@@ -31,7 +34,7 @@ std::ostream& operator<<(std::ostream& os, const CoverageCase& c) {
 void run_coverage(const CoverageCase& c) {
     const std::vector<Feature> in =
         perturbed_grid_coverage(c.n, c.n, 10.0, 0.2, c.seed, c.points_per_edge, c.wiggle);
-    const CheckedRun run = snap_and_check(in, options_at(c.tolerance));
+    const CheckedRun run = snap_and_check(in, options_at(c.tolerance), c.max_flagged);
     std::cout << figures_line(c.name + " (" + std::to_string(vertex_count(in)) + " vertices)", run,
                               c.tolerance) << "\n";
     EXPECT_TRUE(contract_holds(run.report, c.tolerance)) << c;
@@ -68,11 +71,11 @@ INSTANTIATE_TEST_SUITE_P(Sizes, Coverage, ::testing::Values(
     CoverageCase{"v1e3_t0_05_wiggly", 10, 4, 0.05, 0.01, 2},
     CoverageCase{"v1e4_t0_01", 24, 3, 0.01},
     CoverageCase{"v1e4_t0_3", 24, 3, 0.3, 0.02, 3},
-    CoverageCase{"v1e4_t2", 24, 3, 2.0, 0.002, 4}), case_name);
+    CoverageCase{"v1e4_t2", 24, 3, 2.0, 0.002, 4, 2}), case_name);
 
 INSTANTIATE_TEST_SUITE_P(Sizes, CoverageSlow, ::testing::Values(
-    CoverageCase{"v1e5_t0_05", 77, 3, 0.05, 0.01, 5},
-    CoverageCase{"v1e5_t1", 77, 3, 1.0, 0.01, 6}), case_name);
+    CoverageCase{"v1e5_t0_05", 77, 3, 0.05, 0.01, 5, 0},
+    CoverageCase{"v1e5_t1", 77, 3, 1.0, 0.01, 6, 2}), case_name);
 
 } // namespace
 } // namespace trisnap

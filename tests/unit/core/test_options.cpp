@@ -41,6 +41,42 @@ TEST(Options, ToleranceMustBeFiniteAndPositive) {
     }
 }
 
+TEST(Options, ToleranceWhoseSquareOverflowsOrUnderflowsIsRejected) {
+    // 1e308 crashed (sums of t overflowed); at 1e-202 t*t underflowed to 0 and a 1e-200
+    // square vanished as "thinner than the tolerance".
+    for (double t : {1e308, 5e307, 1.7e308, 1e145, 1e-202, 1e-150, 5e-324}) {
+        const std::string msg = rejection(with_tolerance(t));
+        EXPECT_NE(msg.find("out of range"), std::string::npos) << "t=" << t << ": '" << msg << "'";
+    }
+    for (double t : {k_min_tolerance, k_max_tolerance, 1e-140, 1e140}) {
+        EXPECT_EQ(validate(with_tolerance(t)), "") << "t=" << t;
+    }
+    EXPECT_GT(k_min_tolerance * k_min_tolerance, std::numeric_limits<double>::min() * 0x1p+40);
+    EXPECT_LT(k_max_tolerance * k_max_tolerance * 0x1p+40, std::numeric_limits<double>::max());
+}
+
+TEST(Options, ExtremeButAcceptedTolerancesSnapCorrectly) {
+    // At both ends of the range the engine snaps like at t = 1: a square of 10t stays, two
+    // vertices 0.3t apart merge, a sliver of 0.2t between neighbours closes.
+    for (double t : {k_min_tolerance, 1e-140, 1e140, k_max_tolerance}) {
+        std::vector<Feature> in{square(1, 0, 0, 10 * t), square(2, 10.2 * t, 0, 10 * t), square(3, 0, 10.3 * t, 10 * t)};
+        const CheckedRun run = snap_and_check(in, options_at(t), 0);
+        EXPECT_TRUE(contract_holds(run.report, t)) << "t=" << t;
+        EXPECT_EQ(run.report.n_out, 3u) << "t=" << t;
+        EXPECT_EQ(run.result.problems.size(), 0u) << "t=" << t << "\n" << problem_lines(run.result.problems);
+    }
+}
+
+TEST(Options, CoordinatesBeyond2To500AreHugeAtAnyTolerance) {
+    // At t = 1e144 a coordinate of 1e155 is within 2^44 t, but its squared differences
+    // (1e310) overflow: the feature is rejected with 109, the other one snapped.
+    const SnapResult r = snap({square(1, 1e155, 1e155, 1e145), square(2, 0, 0, 1e145)}, with_tolerance(1e144));
+    EXPECT_TRUE(has_problem(r, 1, ProblemCode::huge_coordinate)) << problem_lines(r.problems);
+    EXPECT_TRUE(r.features[0].geometry.empty());
+    EXPECT_FALSE(r.features[1].geometry.empty());
+    EXPECT_EQ(r.problems.size(), 1u) << problem_lines(r.problems);
+}
+
 TEST(Options, DefaultOptionsAreRejectedBecauseToleranceIsUnset) {
     EXPECT_NE(rejection(SnapOptions{}).find("tolerance"), std::string::npos);
 }

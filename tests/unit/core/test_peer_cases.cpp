@@ -15,6 +15,7 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -60,7 +61,7 @@ std::vector<Feature> read_segments(std::istream& in) {
 void expect_contract_on_lines(const std::vector<Feature>& lines, double t) {
     ASSERT_FALSE(lines.empty());
     CheckedRun run;
-    ASSERT_NO_THROW(run = snap_and_check(lines, options_at(t)));
+    ASSERT_NO_THROW(run = snap_and_check(lines, options_at(t), 0));
     EXPECT_TRUE(contract_holds(run.report, t)) << "t=" << t;
 }
 
@@ -127,6 +128,22 @@ std::vector<Feature> case_features(const XmlCase& c) {
 
 class PrecisionXml : public ::testing::TestWithParam<std::string> {};
 
+/// How many features the engine may flag over all cases of a file and both tolerances, as
+/// measured when the bound was introduced (each case has one or two features, so a per-case
+/// bound would say nothing; the total says when the engine starts flagging more).
+std::size_t flagged_allowance(const std::string& file) {
+    static const std::map<std::string, std::size_t> allowance{
+        {"geos_xmltester/general_TestNGOverlayAPrec.xml", 22},
+        {"geos_xmltester/general_TestOverlayAAPrec.xml", 30},
+        {"geos_xmltester/general_TestOverlayLAPrec.xml", 2},
+        {"jts_testxml/general_TestNGOverlayAPrec.xml", 22},
+        {"jts_testxml/general_TestOverlayAAPrec.xml", 30},
+        {"jts_testxml/general_TestOverlayLAPrec.xml", 2},
+    };
+    auto it = allowance.find(file);
+    return it == allowance.end() ? 0 : it->second;
+}
+
 // At the case's grid size (the peers' pixel), and at a quarter of it. Floating-precision
 // cases (no grid) use 1e-6 of their extent.
 TEST_P(PrecisionXml, InputsRunAndKeepTheContract) {
@@ -136,6 +153,7 @@ TEST_P(PrecisionXml, InputsRunAndKeepTheContract) {
     const std::vector<XmlCase> cases = parse_xml_cases(read_text(*path));
     ASSERT_FALSE(cases.empty());
     std::size_t run_cases = 0;
+    std::size_t flagged = 0;
     for (std::size_t i = 0; i < cases.size(); ++i) {
         const std::vector<Feature> in = case_features(cases[i]);
         if (in.empty())
@@ -145,12 +163,14 @@ TEST_P(PrecisionXml, InputsRunAndKeepTheContract) {
         for (double t : {g, g / 4}) {
             SCOPED_TRACE("case " + std::to_string(i + 1) + " '" + cases[i].desc + "' t=" + std::to_string(t));
             CheckedRun run;
-            ASSERT_NO_THROW(run = snap_and_check(in, options_at(t)));
+            ASSERT_NO_THROW(run = snap_and_check(in, options_at(t), in.size()));
             EXPECT_TRUE(contract_holds(run.report, t));
+            flagged += run.report.n_flagged;
         }
     }
     std::cout << "[peer] " << GetParam() << ": " << run_cases << " of " << cases.size()
-              << " cases have polygon/line inputs\n";
+              << " cases have polygon/line inputs, " << flagged << " flagged\n";
+    EXPECT_LE(flagged, flagged_allowance(GetParam()));
 }
 
 std::string file_test_name(const ::testing::TestParamInfo<std::string>& info) {
@@ -186,14 +206,15 @@ std::vector<XmlCase> jts_failure_cases() {
     return path ? parse_xml_cases(read_text(*path)) : std::vector<XmlCase>{};
 }
 
-void expect_jts_case(const XmlCase& c, double t) {
+/// Runs one case; returns how many features the engine flagged (the callers bound the total).
+std::size_t expect_jts_case(const XmlCase& c, double t) {
     SCOPED_TRACE("'" + c.desc + "' t=" + std::to_string(t));
     const std::vector<Feature> in = case_features(c);
-    ASSERT_FALSE(in.empty());
-    CheckedRun run;
-    ASSERT_NO_THROW(run = snap_and_check(in, options_at(t)));
+    EXPECT_FALSE(in.empty());
+    const CheckedRun run = snap_and_check(in, options_at(t), in.size());
     EXPECT_TRUE(contract_holds(run.report, t));
     std::cout << figures_line("jts reduce-precision failure", run, t) << "\n";
+    return run.report.n_flagged;
 }
 
 TEST(JtsReducePrecisionFailure, CasesRunAndKeepTheContract) {
@@ -201,10 +222,12 @@ TEST(JtsReducePrecisionFailure, CasesRunAndKeepTheContract) {
     if (cases.empty())
         GTEST_SKIP() << "data set absent: " << jts_failure;
     ASSERT_EQ(cases.size(), 5u);
+    std::size_t flagged = 0;
     for (std::size_t i : {0u, 1u, 2u, 4u})
         for (double t : {cases[i].grid_size, cases[i].grid_size / 4})
-            expect_jts_case(cases[i], t);
-    expect_jts_case(cases[3], 10.0);
+            flagged += expect_jts_case(cases[i], t);
+    flagged += expect_jts_case(cases[3], 10.0);
+    EXPECT_LE(flagged, 8u) << "8 of the 9 runs flag their one feature (209 or 204), measured";
 }
 
 TEST(JtsReducePrecisionFailureSlow, LargeCaseAtItsGridSize) {
@@ -212,7 +235,7 @@ TEST(JtsReducePrecisionFailureSlow, LargeCaseAtItsGridSize) {
     if (cases.empty())
         GTEST_SKIP() << "data set absent: " << jts_failure;
     ASSERT_EQ(cases.size(), 5u);
-    expect_jts_case(cases[3], cases[3].grid_size);
+    EXPECT_LE(expect_jts_case(cases[3], cases[3].grid_size), 1u);
 }
 
 TEST(PeerXmlParser, ReadsCasesGridsAndInputs) {

@@ -39,7 +39,7 @@ TEST(Z, SquarePairThatNeedsNoSnappingKeepsEveryZ) {
     const std::vector<Feature> in = {
         feature(1, "POLYGON Z ((0 0 1, 10 0 2, 10 10 3, 0 10 4, 0 0 1))"),
         feature(2, "POLYGON Z ((10 0 2, 20 0 5, 20 10 6, 10 10 3, 10 0 2))")};
-    const CheckedRun run = snap_and_check(in, options_at(t));
+    const CheckedRun run = snap_and_check(in, options_at(t), 0);
     EXPECT_TRUE(contract_holds(run.report, t));
     for (std::size_t i = 0; i < in.size(); ++i) {
         EXPECT_TRUE(run.result.features[i].geometry.has_z);
@@ -52,7 +52,7 @@ TEST(Z, MergedVerticesTakeTheMeanZ) {
     const std::vector<Feature> in = {
         feature(1, "POLYGON Z ((0 0 0, 10 0 0, 10 10 2, 0 10 0, 0 0 0))"),
         feature(2, "POLYGON Z ((10.4 10 4, 20 10 0, 20 20 0, 10.4 20 0, 10.4 10 4))")};
-    const CheckedRun run = snap_and_check(in, options_at(t));
+    const CheckedRun run = snap_and_check(in, options_at(t), 0);
     EXPECT_TRUE(contract_holds(run.report, t));
     for (const FeatureOutput& f : run.result.features) {
         const auto z = z_at(f.geometry, 10.2, 10);
@@ -75,7 +75,7 @@ TEST(Z, CrossingSplitsAPolygonEdgeAtItsInterpolatedZ) {
     // on its own edge, so its Z is that edge's interpolation, 5 (a line without Z has none).
     const CheckedRun run = snap_and_check({feature(1, "POLYGON Z ((0 0 0, 10 0 0, 10 10 10, 0 10 10, 0 0 0))"),
                                            feature(2, "LINESTRING (-5 5, 15 5)")},
-                                          options_at(t));
+                                          options_at(t), 0);
     EXPECT_TRUE(contract_holds(run.report, t));
     const Geometry& poly = run.result.features[0].geometry;
     EXPECT_EQ(z_at(poly, 10, 5), std::optional<double>(5.0)) << to_wkt(poly);
@@ -97,7 +97,7 @@ TEST(Z, VertexSnappedOntoAnEdgeSharesOneZWithIt) {
     // interpolates 5: both polygons carry the same vertex, with the mean 6.
     const CheckedRun run = snap_and_check({feature(1, "POLYGON Z ((0 0 0, 10 0 0, 10 10 10, 0 10 10, 0 0 0))"),
                                            feature(2, "POLYGON Z ((10.3 5 7, 20 0 0, 20 10 0, 10.3 5 7))")},
-                                          options_at(t));
+                                          options_at(t), 0);
     EXPECT_TRUE(contract_holds(run.report, t));
     EXPECT_EQ(z_at(run.result.features[0].geometry, 10, 5), std::optional<double>(6.0));
     EXPECT_EQ(z_at(run.result.features[1].geometry, 10, 5), std::optional<double>(6.0));

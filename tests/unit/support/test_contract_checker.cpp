@@ -23,7 +23,7 @@ std::vector<CheckedFeature> neighbours() {
 }
 
 TEST(ContractChecker, IdenticalOutputHoldsTheContract) {
-    const ContractReport r = check_contract(neighbours(), neighbours(), {}, t);
+    const ContractReport r = check_contract(neighbours(), neighbours(), t);
     EXPECT_TRUE(contract_holds(r, t));
     EXPECT_EQ(r.n_in, 2u);
     EXPECT_EQ(r.n_out, 2u);
@@ -34,7 +34,7 @@ TEST(ContractChecker, IdenticalOutputHoldsTheContract) {
 
 TEST(ContractChecker, SharedVertexAndClosingPointAreOneVertex) {
     const std::vector<CheckedFeature> small = {{1, box(0, 0, 1.5, 1.5)}, {2, box(1.5, 0, 3, 1.5)}};
-    const ContractReport r = check_contract(small, small, {}, t);
+    const ContractReport r = check_contract(small, small, t);
     EXPECT_DOUBLE_EQ(r.min_vertex_vertex, 1.5);
     EXPECT_DOUBLE_EQ(r.min_vertex_edge, 1.5);
     EXPECT_TRUE(contract_holds(r, t, 1.0));
@@ -43,7 +43,7 @@ TEST(ContractChecker, SharedVertexAndClosingPointAreOneVertex) {
 TEST(ContractChecker, MeasuresTwoVerticesCloserThanT) {
     const std::vector<CheckedFeature> out = {
         {1, box(0, 0, 10, 10)}, {2, "POLYGON ((10.3 10, 20 12, 15 20, 10.3 10))"}};
-    const ContractReport r = check_contract(out, out, {}, t);
+    const ContractReport r = check_contract(out, out, t);
     EXPECT_NEAR(r.min_vertex_vertex, 0.3 * t, 1e-12);
     EXPECT_EQ(r.n_close_vertex_pairs, 1u);
     EXPECT_FALSE(r.ok(t, 0.25, 2 * t));
@@ -54,7 +54,7 @@ TEST(ContractChecker, MeasuresTwoVerticesCloserThanT) {
 TEST(ContractChecker, MeasuresAVertexCloseToAnEdge) {
     const std::vector<CheckedFeature> out = {
         {1, box(0, 0, 10, 10)}, {2, "POLYGON ((10.2 5, 20 0, 20 10, 10.2 5))"}};
-    const ContractReport r = check_contract(out, out, {}, t);
+    const ContractReport r = check_contract(out, out, t);
     EXPECT_NEAR(r.min_vertex_edge, 0.2 * t, 1e-12);
     EXPECT_TRUE(std::isinf(r.min_vertex_vertex));
     EXPECT_EQ(r.n_close_vertex_edge, 1u);
@@ -65,7 +65,7 @@ TEST(ContractChecker, MeasuresAVertexCloseToAnEdge) {
 TEST(ContractChecker, FindsAVertexNearTheMiddleOfAVeryLongEdge) {
     const std::vector<CheckedFeature> out = {
         {1, box(0, 0, 100000, 10)}, {2, "POLYGON ((50000 10.3, 50010 20, 49990 20, 50000 10.3))"}};
-    const ContractReport r = check_contract(out, out, {}, t);
+    const ContractReport r = check_contract(out, out, t);
     EXPECT_NEAR(r.min_vertex_edge, 0.3 * t, 1e-9);
     EXPECT_EQ(r.n_close_vertex_edge, 1u);
 }
@@ -76,7 +76,7 @@ TEST(ContractChecker, InvalidInputIsRepairedForPairTests) {
                                             {2, box(10, 0, 20, 10)}};
     const std::vector<CheckedFeature> out = {{1, "POLYGON ((0 0, 10 0, 10 10, 0 10, 0 0))"},
                                              {2, box(10, 0, 20, 10)}};
-    const ContractReport r = check_contract(in, out, {}, t);
+    const ContractReport r = check_contract(in, out, t);
     EXPECT_EQ(r.n_invalid, 0u);
     EXPECT_EQ(r.n_overlaps_new, 0u);
     EXPECT_EQ(r.n_shared_lost, 0u) << r.summary();
@@ -84,15 +84,15 @@ TEST(ContractChecker, InvalidInputIsRepairedForPairTests) {
 
 TEST(ContractChecker, PolygonInsideAnotherIsAnOldOverlapNotANewOne) {
     const std::vector<CheckedFeature> nested = {{1, box(0, 0, 100, 100)}, {2, box(40, 40, 50, 50)}};
-    const ContractReport r = check_contract(nested, nested, {}, t);
+    const ContractReport r = check_contract(nested, nested, t);
     EXPECT_EQ(r.n_overlaps_new, 0u);
     const std::vector<CheckedFeature> apart = {{1, box(0, 0, 100, 100)}, {2, box(140, 40, 150, 50)}};
-    EXPECT_EQ(check_contract(apart, nested, {}, t).n_overlaps_new, 1u);
+    EXPECT_EQ(check_contract(apart, nested, t).n_overlaps_new, 1u);
 }
 
 TEST(ContractChecker, BowtieIsInvalid) {
     const ContractReport r = check_contract({{1, box(0, 0, 10, 10)}},
-                                            {{1, "POLYGON ((0 0, 10 10, 10 0, 0 10, 0 0))"}}, {}, t);
+                                            {{1, "POLYGON ((0 0, 10 10, 10 0, 0 10, 0 0))"}}, t);
     EXPECT_EQ(r.n_invalid, 1u);
     EXPECT_FALSE(contract_holds(r, t));
 }
@@ -102,20 +102,20 @@ TEST(ContractChecker, CollapsedLineIsInvalid) {
                                             {2, "MULTILINESTRING ((0 5, 10 5), (0 8, 10 8))"}};
     const std::vector<CheckedFeature> out = {{1, "LINESTRING (3 0, 3 0)"},
                                              {2, "MULTILINESTRING ((0 5, 10 5), (4 8, 4 8))"}};
-    EXPECT_EQ(check_contract(in, out, {}, t).n_invalid, 2u);
-    EXPECT_EQ(check_contract(in, in, {}, t).n_invalid, 0u);
+    EXPECT_EQ(check_contract(in, out, t).n_invalid, 2u);
+    EXPECT_EQ(check_contract(in, in, t).n_invalid, 0u);
 }
 
 TEST(ContractChecker, UnreadableOrRetypedOutputIsInvalid) {
     const ContractReport r = check_contract(
         neighbours(), {{1, "POLYGON ((0 0, 1"}, {2, "LINESTRING (10 0, 20 0)"}, {3, box(0, 0, 1, 1)}},
-        {1}, t);
+        t);
     EXPECT_EQ(r.n_invalid, 3u) << r.summary();
 }
 
 TEST(ContractChecker, SharedEdgeMovedApartIsLost) {
     const ContractReport r =
-        check_contract(neighbours(), {{1, box(0, 0, 10, 10)}, {2, box(10.5, 0, 20, 10)}}, {}, t);
+        check_contract(neighbours(), {{1, box(0, 0, 10, 10)}, {2, box(10.5, 0, 20, 10)}}, t);
     EXPECT_EQ(r.n_shared_lost, 1u) << r.summary();
     EXPECT_EQ(r.n_overlaps_new, 0u);
     EXPECT_FALSE(contract_holds(r, t));
@@ -123,31 +123,90 @@ TEST(ContractChecker, SharedEdgeMovedApartIsLost) {
 
 TEST(ContractChecker, OverlappingOutputsAreNew) {
     const ContractReport r =
-        check_contract(neighbours(), {{1, box(0, 0, 10, 10)}, {2, box(9, 0, 19, 10)}}, {}, t);
+        check_contract(neighbours(), {{1, box(0, 0, 10, 10)}, {2, box(9, 0, 19, 10)}}, t);
     EXPECT_EQ(r.n_overlaps_new, 1u) << r.summary();
     EXPECT_EQ(r.n_shared_lost, 1u); // they still touch along y=0, but now overlap
 }
 
+TEST(ContractChecker, InvalidInputsCoverTheirAreaByTheOddEvenRule) {
+    // A "hole" lying outside its shell is area by the odd-even rule (the engine's repair, 105),
+    // so a neighbour overlapping it already overlapped in the input. Found by fuzz_snap: the
+    // checker repaired inputs with GEOS's STRUCTURE method, which drops such a hole, and called
+    // the overlap new.
+    const std::vector<CheckedFeature> in = {
+        {1, "POLYGON ((0 0, 10 0, 10 10, 0 10, 0 0), (20 0, 30 0, 30 10, 20 10, 20 0))"},
+        {2, box(25, 5, 35, 15)}};
+    const std::vector<CheckedFeature> out = {
+        {1, "MULTIPOLYGON (((0 0, 10 0, 10 10, 0 10, 0 0)), ((20 0, 30 0, 30 10, 20 10, 20 0)))"},
+        {2, box(25, 5, 35, 15)}};
+    EXPECT_EQ(check_contract(in, out, t).n_overlaps_new, 0u) << check_contract(in, out, t).summary();
+    // Two overlapping shells of one multipolygon leave their overlap out (odd-even): a
+    // neighbour inside that overlap did not overlap the input.
+    const std::vector<CheckedFeature> shells = {
+        {1, "MULTIPOLYGON (((0 0, 6 0, 6 6, 0 6, 0 0)), ((3 3, 9 3, 9 9, 3 9, 3 3)))"}, {2, box(4, 4, 5, 5)}};
+    const std::vector<CheckedFeature> filled = {{1, box(0, 0, 9, 9)}, {2, box(4, 4, 5, 5)}};
+    EXPECT_EQ(check_contract(shells, filled, t).n_overlaps_new, 1u);
+}
+
 TEST(ContractChecker, OverlapsAlreadyInTheInputAreNotNew) {
     const std::vector<CheckedFeature> overlapping = {{1, box(0, 0, 10, 10)}, {2, box(5, 5, 15, 15)}};
-    const ContractReport r = check_contract(overlapping, overlapping, {}, t);
+    const ContractReport r = check_contract(overlapping, overlapping, t);
     EXPECT_EQ(r.n_overlaps_new, 0u);
     EXPECT_TRUE(contract_holds(r, t)) << r.summary();
 }
 
-TEST(ContractChecker, MissingIdUnlessReported) {
+/// Rules as an engine test states them: 201 means "not written", 102 does not; 209 exempts a
+/// feature from the drift and shared-boundary checks, at most `max_flagged` of them.
+ContractRules rules(std::size_t max_flagged) {
+    ContractRules r;
+    r.not_written_codes = {201};
+    r.drift_codes = {209};
+    r.max_flagged = max_flagged;
+    return r;
+}
+
+TEST(ContractChecker, MissingIdUnlessReportedAsNotWritten) {
     const std::vector<CheckedFeature> out = {{1, box(0, 0, 10, 10)}, {2, "POLYGON EMPTY"}};
-    EXPECT_EQ(check_contract(neighbours(), out, {}, t).n_missing, 1u);
-    EXPECT_EQ(check_contract(neighbours(), {out[0]}, {}, t).n_missing, 1u);
-    const ContractReport reported = check_contract(neighbours(), out, {2}, t);
+    EXPECT_EQ(check_contract(neighbours(), out, t).n_missing, 1u);
+    EXPECT_EQ(check_contract(neighbours(), {out[0]}, t).n_missing, 1u);
+    const ContractReport reported = check_contract(neighbours(), out, {{2, 201}}, t, rules(0));
     EXPECT_EQ(reported.n_missing, 0u);
     EXPECT_EQ(reported.n_shared_lost, 0u); // a collapsed neighbour is reported, not "lost"
     EXPECT_TRUE(contract_holds(reported, t)) << reported.summary();
 }
 
+TEST(ContractChecker, AProblemThatKeepsTheFeatureDoesNotExcuseItsAbsence) {
+    // 102 (repeated points removed) says the feature was repaired and written: if it is not in
+    // the output, it is missing (it used to be excused by any problem code).
+    const std::vector<CheckedFeature> out = {{1, box(0, 0, 10, 10)}, {2, "POLYGON EMPTY"}};
+    const ContractReport r = check_contract(neighbours(), out, {{2, 102}}, t, rules(0));
+    EXPECT_EQ(r.n_missing, 1u);
+    EXPECT_FALSE(contract_holds(r, t));
+    EXPECT_NE(r.summary().find("missing: id 2"), std::string::npos) << r.summary();
+}
+
+TEST(ContractChecker, FlaggedFeaturesAreBoundedPerCase) {
+    // Both squares drift 0.7 (within 2t) and lose their shared edge; flagged with 209 they are
+    // exempt from the shared-boundary check, but only as many as the case allows.
+    const std::vector<CheckedFeature> out = {{1, box(-0.5, 0, 9.5, 10)}, {2, box(10.5, 0, 20.5, 10)}};
+    const std::vector<ReportedProblem> problems = {{1, 209}, {2, 209}};
+    const ContractReport allowed = check_contract(neighbours(), out, problems, t, rules(2));
+    EXPECT_EQ(allowed.n_flagged, 2u);
+    EXPECT_EQ(allowed.n_shared_lost, 0u);
+    EXPECT_TRUE(contract_holds(allowed, t)) << allowed.summary();
+    const ContractReport too_many = check_contract(neighbours(), out, problems, t, rules(1));
+    EXPECT_EQ(too_many.n_flagged, 2u);
+    EXPECT_FALSE(contract_holds(too_many, t));
+    EXPECT_NE(too_many.summary().find("2 flagged (at most 1 allowed)"), std::string::npos) << too_many.summary();
+    // A code that is not a drift code exempts nothing: the lost boundary counts.
+    const ContractReport other = check_contract(neighbours(), out, {{1, 102}, {2, 102}}, t, rules(2));
+    EXPECT_EQ(other.n_flagged, 0u);
+    EXPECT_EQ(other.n_shared_lost, 1u);
+}
+
 TEST(ContractChecker, ShiftedSquareHausdorffIsTheShift) {
     const ContractReport r =
-        check_contract({{1, box(0, 0, 10, 10)}}, {{1, box(0.7, 0, 10.7, 10)}}, {}, t);
+        check_contract({{1, box(0, 0, 10, 10)}}, {{1, box(0.7, 0, 10.7, 10)}}, t);
     EXPECT_NEAR(r.max_hausdorff, 0.7, 1e-12);
     EXPECT_EQ(r.max_hausdorff_id, 1);
     EXPECT_TRUE(r.ok(t, 0.5, 0.7));
@@ -158,27 +217,27 @@ TEST(ContractChecker, HausdorffFindsTheFarPointInsideASegment) {
     // Every vertex of either side is within 1 of the other side, but the middle of the input
     // segment is sqrt(10) from the output: only bisecting the segment finds it.
     const ContractReport r = check_contract({{1, "LINESTRING (0 0, 10 0)"}},
-                                            {{1, "MULTILINESTRING ((0 0, 2 1), (8 1, 10 0))"}}, {}, t);
+                                            {{1, "MULTILINESTRING ((0 0, 2 1), (8 1, 10 0))"}}, t);
     EXPECT_NEAR(r.max_hausdorff, std::sqrt(10.0), 1e-3 * t);
 }
 
 TEST(ContractChecker, HausdorffIgnoresVerticesAddedOnTheSameLine) {
     const std::string plain = "POLYGON ((0 0, 10 0, 10 10, 0 10, 0 0))";
     const std::string split = "POLYGON ((0 0, 10 0, 10 10, 6 10, 4 10, 0 10, 0 0))";
-    EXPECT_EQ(check_contract({{1, plain}}, {{1, split}}, {}, t).max_hausdorff, 0.0);
+    EXPECT_EQ(check_contract({{1, plain}}, {{1, split}}, t).max_hausdorff, 0.0);
 }
 
 TEST(ContractChecker, SummaryNamesCountsAndExamples) {
     const ContractReport r =
-        check_contract(neighbours(), {{1, box(0, 0, 10, 10)}, {2, box(10.5, 0, 20, 10)}}, {}, t);
+        check_contract(neighbours(), {{1, box(0, 0, 10, 10)}, {2, box(10.5, 0, 20, 10)}}, t);
     const std::string s = r.summary();
     EXPECT_NE(s.find("1 shared boundaries lost"), std::string::npos) << s;
     EXPECT_NE(s.find("ids 1 and 2"), std::string::npos) << s;
 }
 
 TEST(ContractChecker, RejectsBadInputAndTolerance) {
-    EXPECT_THROW(check_contract({{1, "POLYGON ((0 0"}}, {}, {}, t), std::invalid_argument);
-    EXPECT_THROW(check_contract(neighbours(), neighbours(), {}, 0.0), std::invalid_argument);
+    EXPECT_THROW(check_contract({{1, "POLYGON ((0 0"}}, {}, t), std::invalid_argument);
+    EXPECT_THROW(check_contract(neighbours(), neighbours(), 0.0), std::invalid_argument);
 }
 
 } // namespace

@@ -100,7 +100,7 @@ TEST(Generators, CoverageSharesEdgesExactly) {
     const auto cells = checked(perturbed_grid_coverage(6, 5, 10.0, 0.2, 3, 4));
     // Extra edge points fall anywhere along an edge, so only a tiny t is met by the input.
     const double t = 1e-7;
-    const ContractReport r = check_contract(cells, cells, {}, t);
+    const ContractReport r = check_contract(cells, cells, t);
     EXPECT_TRUE(contract_holds(r, t)) << r.summary();
     // Any two neighbours moved apart by a hair would be caught as a lost shared boundary.
     std::vector<CheckedFeature> nudged = cells;
@@ -108,7 +108,7 @@ TEST(Generators, CoverageSharesEdgesExactly) {
     for (Coord& c : moved.geometry.polygons[0].rings[0])
         c.x += 1e-6;
     nudged[7].wkt = to_wkt(moved.geometry);
-    EXPECT_GE(check_contract(cells, nudged, {}, t).n_shared_lost, 2u);
+    EXPECT_GE(check_contract(cells, nudged, t).n_shared_lost, 2u);
 }
 
 TEST(Generators, NearDegeneratePolygonsAreValidAndCloseToEachOther) {
@@ -116,7 +116,7 @@ TEST(Generators, NearDegeneratePolygonsAreValidAndCloseToEachOther) {
     const auto polygons = near_degenerate_polygons(300, 200.0, t, 17);
     ASSERT_EQ(polygons.size(), 300u);
     EXPECT_EQ(geos_areas(polygons).invalid, 0);
-    const ContractReport r = check_contract(checked(polygons), checked(polygons), {}, t);
+    const ContractReport r = check_contract(checked(polygons), checked(polygons), t);
     EXPECT_EQ(r.n_invalid, 0u);
     EXPECT_LT(r.min_vertex_vertex, 0.5 * t); // near-coincident vertices are there to be snapped
     EXPECT_LT(r.min_vertex_edge, 0.5 * t);

@@ -1,0 +1,81 @@
+#pragma once
+// Who owns each constrained edge of the triangulation: the flat table the engine edits itself
+// (CGAL's plain constrained triangulation only flags an edge as constrained).
+//
+// An edge is the pair of its vertex ids; its entries are the input edges running along it, each
+// with the direction it runs in. Two owners from one feature stay two entries (overlapping
+// rings: labelling counts their parity), and so does one owner twice (a vertex merge folded
+// two of its pieces onto one edge). Open addressing with linear probing on a power-of-two table,
+// entries in a pooled linked list per edge: about 32 bytes per edge, no allocation per edge.
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace trisnap::detail {
+
+/// An input edge (index into the Mesh's owner table) and whether it runs along the edge in the
+/// direction the holder of this value looks at it (from -> to).
+struct OwnerRef {
+    std::uint32_t owner = 0;
+    bool forward = true;
+};
+
+class EdgeOwners {
+public:
+    /// Adds an owner to the edge from-to (creating the edge), running from -> to when `forward`.
+    void add(std::uint32_t from, std::uint32_t to, OwnerRef ref);
+    /// Appends the owners of from-to to `out`, oriented from -> to, and removes the edge.
+    void take(std::uint32_t from, std::uint32_t to, std::vector<OwnerRef>& out);
+    /// Appends the owners of from-to to `out`, oriented from -> to.
+    void get(std::uint32_t from, std::uint32_t to, std::vector<OwnerRef>& out) const;
+    bool contains(std::uint32_t a, std::uint32_t b) const { return find(key(a, b)) != k_none; }
+    std::size_t edges() const { return m_count; }
+
+    /// Calls f(u, v, OwnerRef) for every entry, u < v, oriented u -> v; order is the table's.
+    template <class F>
+    void for_each(F&& f) const
+    {
+        for (std::size_t s = 0; s < m_keys.size(); ++s) {
+            if (m_keys[s] == k_empty) {
+                continue;
+            }
+            const auto u = static_cast<std::uint32_t>(m_keys[s] >> 32);
+            const auto v = static_cast<std::uint32_t>(m_keys[s]);
+            for (std::uint32_t n = m_heads[s]; n != k_none; n = m_nodes[n].next) {
+                f(u, v, unpack(m_nodes[n].packed));
+            }
+        }
+    }
+
+    /// Renames vertex ids: id -> rename[id] (ids past the end keep theirs).
+    void rename(const std::vector<std::uint32_t>& rename);
+
+private:
+    static constexpr std::uint64_t k_empty = 0; // no edge joins vertex 0 to itself
+    static constexpr std::uint32_t k_none = std::numeric_limits<std::uint32_t>::max();
+    struct Node {
+        std::uint32_t packed; ///< owner << 1 | runs from the lower id to the higher
+        std::uint32_t next;
+    };
+
+    static std::uint64_t key(std::uint32_t a, std::uint32_t b)
+    {
+        return a < b ? (std::uint64_t{a} << 32) | b : (std::uint64_t{b} << 32) | a;
+    }
+    static OwnerRef unpack(std::uint32_t packed) { return OwnerRef{packed >> 1, (packed & 1u) != 0}; }
+    std::size_t slot_of(std::uint64_t k) const;
+    std::size_t find(std::uint64_t k) const;
+    std::size_t find_or_insert(std::uint64_t k);
+    void erase_slot(std::size_t s);
+    void grow();
+    std::uint32_t new_node(std::uint32_t packed, std::uint32_t next);
+    void append(std::uint32_t head, bool flip, std::vector<OwnerRef>& out) const;
+
+    std::vector<std::uint64_t> m_keys;
+    std::vector<std::uint32_t> m_heads;
+    std::vector<Node> m_nodes;
+    std::uint32_t m_free = k_none;
+    std::size_t m_count = 0;
+};
+
+} // namespace trisnap::detail

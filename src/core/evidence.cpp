@@ -1,0 +1,171 @@
+#include "core/evidence.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <tuple>
+
+namespace trisnap::detail {
+namespace {
+
+Coord midpoint(const Mesh& mesh, std::uint32_t u, std::uint32_t v)
+{
+    const VertexRecord& a = mesh.vertex(u);
+    const VertexRecord& b = mesh.vertex(v);
+    return Coord{0.5 * (a.x + b.x), 0.5 * (a.y + b.y)};
+}
+
+// A sub-edge owned twice by one polygon feature: two of its edges overlap there.
+void flag_doubly_owned(const Mesh& mesh, const Region& region, std::vector<bool>& flag)
+{
+    std::vector<std::tuple<std::uint64_t, std::uint32_t>> uses; // (edge, feature)
+    mesh.for_each_owned_edge([&](std::uint32_t u, std::uint32_t v, OwnerRef ref) {
+        const Owner& o = mesh.owner_at(ref.owner);
+        if (!o.line) {
+            uses.emplace_back(edge_key(u, v), o.feature);
+        }
+    });
+    std::sort(uses.begin(), uses.end());
+    for (std::size_t k = 1; k < uses.size(); ++k) {
+        if (uses[k] != uses[k - 1]) {
+            continue;
+        }
+        const std::uint64_t key = std::get<0>(uses[k]);
+        const Coord m = midpoint(mesh, static_cast<std::uint32_t>(key >> 32), static_cast<std::uint32_t>(key));
+        if (region.contains(m.x, m.y)) {
+            flag[std::get<1>(uses[k])] = true;
+        }
+    }
+}
+
+// A vertex inside two input edges of one polygon feature: two straight edges through one
+// interior point either cross there or overlap.
+void flag_shared_interior(const Mesh& mesh, const Region& region, std::vector<bool>& flag)
+{
+    std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>> inside; // (vertex, feature, owner)
+    mesh.for_each_owned_edge([&](std::uint32_t u, std::uint32_t v, OwnerRef ref) {
+        const Owner& o = mesh.owner_at(ref.owner);
+        for (const std::uint32_t x : {u, v}) {
+            if (!o.line && x != o.from && x != o.to) {
+                inside.emplace_back(x, o.feature, ref.owner);
+            }
+        }
+    });
+    std::sort(inside.begin(), inside.end());
+    inside.erase(std::unique(inside.begin(), inside.end()), inside.end());
+    for (std::size_t k = 1; k < inside.size(); ++k) {
+        const auto [x, feature, owner] = inside[k];
+        if (x != std::get<0>(inside[k - 1]) || feature != std::get<1>(inside[k - 1])) {
+            continue;
+        }
+        if (region.contains(mesh.vertex(x).x, mesh.vertex(x).y)) {
+            flag[feature] = true;
+        }
+    }
+}
+
+bool member(const FaceLabels& labels, cdt::Face_handle f, std::uint32_t feature)
+{
+    const std::vector<std::uint32_t>& set = labels.sets[f->info().label];
+    return std::binary_search(set.begin(), set.end(), feature);
+}
+
+} // namespace
+
+std::vector<bool> self_intersecting(const Mesh& mesh, std::size_t features, const Region& region)
+{
+    std::vector<bool> flag(features, false);
+    flag_doubly_owned(mesh, region, flag);
+    flag_shared_interior(mesh, region, flag);
+    return flag;
+}
+
+std::vector<double> edge_deviation(const Mesh& mesh, const std::vector<CleanFeature>& clean, const Region& region)
+{
+    std::vector<double> worst(clean.size(), 0.0);
+    mesh.for_each_owned_edge([&](std::uint32_t u, std::uint32_t v, OwnerRef ref) {
+        const Owner& o = mesh.owner_at(ref.owner);
+        const CleanFeature& cf = clean[o.feature];
+        const std::vector<Coord>& pts = o.line ? cf.lines[o.part] : cf.rings[o.part].points;
+        const Coord& a = pts[o.seg];
+        const Coord& b = pts[(o.seg + 1) % pts.size()];
+        for (const std::uint32_t x : {u, v}) {
+            const VertexRecord& r = mesh.vertex(x);
+            if (region.contains(r.x, r.y)) {
+                worst[o.feature] = std::max(worst[o.feature], distance_point_segment(r.x, r.y, a.x, a.y, b.x, b.y));
+            }
+        }
+    });
+    return worst;
+}
+
+void report_collapsed_edges(Mesh& mesh, const FaceLabels& labels, const std::vector<CleanFeature>& clean,
+                            const std::vector<bool>& written, const Region& region, std::vector<Problem>& problems)
+{
+    std::vector<std::size_t> count(clean.size(), 0);
+    std::vector<Coord> where(clean.size());
+    auto& tri = mesh.tri();
+    mesh.for_each_owned_edge([&](std::uint32_t u, std::uint32_t v, OwnerRef ref) {
+        const Owner& o = mesh.owner_at(ref.owner);
+        cdt::Face_handle fh;
+        int i = 0;
+        if (o.line || !tri.is_edge(mesh.vertex(u).handle, mesh.vertex(v).handle, fh, i)) {
+            return;
+        }
+        if (member(labels, fh, o.feature) != member(labels, fh->neighbor(i), o.feature)) {
+            return;
+        }
+        const Coord mid = midpoint(mesh, u, v);
+        if (!region.contains(mid.x, mid.y)) {
+            return;
+        }
+        if (count[o.feature]++ == 0 || std::tie(mid.x, mid.y) < std::tie(where[o.feature].x, where[o.feature].y)) {
+            where[o.feature] = mid;
+        }
+    });
+    for (std::size_t f = 0; f < clean.size(); ++f) {
+        if (count[f] == 0 || !written[f]) {
+            continue;
+        }
+        problems.push_back(Problem{clean[f].id, ProblemCode::thin_part_collapsed,
+            std::to_string(count[f]) + " input edge pieces no longer bound the polygon: a part thinner than the tolerance collapsed",
+            where[f].x, where[f].y});
+    }
+}
+
+void report_unresolved(Mesh& mesh, const SnapperOutcome& outcome, const std::vector<CleanFeature>& clean,
+                       const Region& region, std::vector<Problem>& problems)
+{
+    const ProblemCode code = outcome.converged ? ProblemCode::separation_not_reached : ProblemCode::not_converged;
+    std::vector<std::uint32_t> owners;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> hits; // feature, vertex
+    auto& tri = mesh.tri();
+    for (std::uint32_t v : outcome.unresolved) {
+        if (!region.contains(mesh.vertex(v).x, mesh.vertex(v).y)) {
+            continue;
+        }
+        auto vc = tri.incident_vertices(mesh.vertex(v).handle);
+        const auto done = vc;
+        do {
+            if (tri.is_infinite(vc)) {
+                continue;
+            }
+            mesh.owners_of_edge(v, vc->info().id, owners);
+            for (std::uint32_t o : owners) {
+                hits.emplace_back(mesh.owner_at(o).feature, v);
+            }
+        } while (++vc != done);
+    }
+    std::sort(hits.begin(), hits.end());
+    for (std::size_t k = 0; k < hits.size(); ++k) {
+        if (k > 0 && hits[k].first == hits[k - 1].first) {
+            continue;
+        }
+        const VertexRecord& r = mesh.vertex(hits[k].second);
+        problems.push_back(Problem{clean[hits[k].first].id, code,
+            outcome.converged ? "a vertex stays closer than the tolerance allows (split refused: it already snapped into that edge)"
+                              : "operation cap reached before the fix-point", r.x, r.y});
+    }
+}
+
+} // namespace trisnap::detail

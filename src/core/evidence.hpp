@@ -1,0 +1,36 @@
+#pragma once
+// What the engine reports from the triangulation itself, beside the output geometry: input rings
+// that cross or overlap (105), input edge pieces that no longer bound their polygon (209), how
+// far each feature's edges strayed (max_displacement), and vertices the snapper could not
+// settle (205/207). Each reads the owner table once; evidence counts only inside `region`, so
+// tiles report each piece of it exactly once.
+#include "core/labelling.hpp"
+#include "core/mesh.hpp"
+#include "core/problems.hpp"
+#include "core/snap.hpp"
+#include "core/snapper.hpp"
+
+#include <vector>
+
+namespace trisnap::detail {
+
+/// Per feature: true when its own input rings cross or overlap (checked on the input
+/// triangulation): a sub-edge it owns twice, or a vertex lying inside two of its input edges.
+/// A ring vertex touching another edge is not flagged (valid for a hole on its shell).
+std::vector<bool> self_intersecting(const Mesh& mesh, std::size_t features, const Region& region);
+
+/// Per feature: the largest distance from a vertex now on one of its input edges to that input
+/// edge (a cascade of splits can bend an edge further than any single vertex moved).
+std::vector<double> edge_deviation(const Mesh& mesh, const std::vector<CleanFeature>& clean, const Region& region);
+
+/// 209 for every polygon (not collapsed entirely: `written[f]`) with input edge pieces that have
+/// the same membership on both sides, at the smallest such piece.
+void report_collapsed_edges(Mesh& mesh, const FaceLabels& labels, const std::vector<CleanFeature>& clean,
+                            const std::vector<bool>& written, const Region& region, std::vector<Problem>& problems);
+
+/// 205 (cap reached) or 207 (guard refused a split) for every feature with an edge at an
+/// unresolved vertex.
+void report_unresolved(Mesh& mesh, const SnapperOutcome& outcome, const std::vector<CleanFeature>& clean,
+                       const Region& region, std::vector<Problem>& problems);
+
+} // namespace trisnap::detail

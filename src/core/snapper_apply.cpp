@@ -1,0 +1,162 @@
+// Applying events: each re-checks its condition (the queue holds stale events too), then edits
+// the mesh through Mesh::replace().
+#include "core/snapper_impl.hpp"
+
+#include <algorithm>
+#include <array>
+
+namespace trisnap::detail {
+namespace {
+
+// How often one vertex may be split into the same input edge. Once is enough on real layers;
+// on dense overlapping synthetic tangles a vertex dragged off an edge by later merges can need a
+// second or third split, and refusing left vertices at 0.28 t from edges. The bound keeps the
+// termination argument (finitely many splits per vertex and edge).
+constexpr std::ptrdiff_t k_max_snaps_per_edge = 4;
+
+} // namespace
+
+// A merge across a constraint would drag edges through it; such a pair always has a closer
+// vertex-edge event (one of the two is within half their distance of the constraint).
+bool Snapper::visible(std::uint32_t a, std::uint32_t b)
+{
+    const double d2 = dist2(a, b);
+    m_mesh.search_point(a, d2, d2, m_near, m_edges);
+    const cdt::Point& pa = m_mesh.vertex(a).handle->point();
+    const cdt::Point& pb = m_mesh.vertex(b).handle->point();
+    for (const auto& near : m_near) {
+        const std::uint32_t w = near.second;
+        if (w == b) {
+            continue;
+        }
+        const cdt::Point& pw = m_mesh.vertex(w).handle->point();
+        if (CGAL::collinear(pa, pw, pb) && CGAL::collinear_are_strictly_ordered_along_line(pa, pw, pb)) {
+            return false;
+        }
+    }
+    const cdt::Segment ab(pa, pb);
+    for (const EdgeHit& h : m_edges) {
+        if (h.b == b || h.c == b) {
+            continue;
+        }
+        const cdt::Segment e(m_mesh.vertex(h.b).handle->point(), m_mesh.vertex(h.c).handle->point());
+        if (CGAL::do_intersect(ab, e)) {
+            return false;
+        }
+    }
+    return true;
+}
+
+bool Snapper::guard_allows(std::uint32_t v, std::uint32_t b, std::uint32_t c, bool count_guard)
+{
+    const std::vector<std::uint32_t>& into = m_mesh.vertex(v).snapped_into;
+    m_mesh.owners_of_edge(b, c, m_owners);
+    for (std::uint32_t o : m_owners) {
+        if (std::count(into.begin(), into.end(), o) >= k_max_snaps_per_edge) {
+            if (count_guard) {
+                ++m_out.guarded;
+            }
+            return false;
+        }
+    }
+    return true;
+}
+
+// The event's condition as apply() checks it, without editing anything. `count_guard`: count a
+// split the repeated-split guard refuses.
+bool Snapper::applicable(const Event& e, bool count_guard)
+{
+    const auto& tri = m_mesh.tri();
+    switch (e.kind) {
+    case Kind::face: {
+        if (!alive(e.a) || !alive(e.b) || !alive(e.c)) {
+            return false;
+        }
+        if (!tri.is_face(m_mesh.vertex(e.a).handle, m_mesh.vertex(e.b).handle, m_mesh.vertex(e.c).handle)) {
+            return false;
+        }
+        return std::max({dist2(e.a, e.b), dist2(e.b, e.c), dist2(e.c, e.a)}) <= m_vt2;
+    }
+    case Kind::merge:
+        return alive(e.a) && alive(e.b) && visible(e.a, e.b);
+    default:
+        break;
+    }
+    if (!alive(e.a) || !alive(e.b) || !alive(e.c) || !m_mesh.is_constrained_edge(e.b, e.c)) {
+        return false;
+    }
+    if (e.kind == Kind::sliver &&
+        !tri.is_face(m_mesh.vertex(e.a).handle, m_mesh.vertex(e.b).handle, m_mesh.vertex(e.c).handle)) {
+        return false;
+    }
+    if (dist2(e.a, e.b) <= m_vt2 || dist2(e.a, e.c) <= m_vt2) {
+        return false;
+    }
+    return guard_allows(e.a, e.b, e.c, count_guard);
+}
+
+bool Snapper::apply_face(const Event& e)
+{
+    if (!applicable(e, true)) {
+        return false;
+    }
+    const VertexRecord& ra = m_mesh.vertex(e.a);
+    const VertexRecord& rb = m_mesh.vertex(e.b);
+    const VertexRecord& rc = m_mesh.vertex(e.c);
+    const double w = ra.weight + rb.weight + rc.weight;
+    const double x = (ra.weight * ra.x + rb.weight * rb.x + rc.weight * rc.x) / w;
+    const double y = (ra.weight * ra.y + rb.weight * rb.y + rc.weight * rc.y) / w;
+    const std::array<std::uint32_t, 3> olds{e.a, e.b, e.c};
+    after_edit(m_mesh.replace(olds, x, y, nullptr));
+    m_out.merges += 2;
+    return true;
+}
+
+bool Snapper::apply_merge(const Event& e)
+{
+    if (!alive(e.a) || !alive(e.b)) {
+        return false;
+    }
+    if (!visible(e.a, e.b)) {
+        m_parked.push_back(e);
+        return false;
+    }
+    const VertexRecord& ra = m_mesh.vertex(e.a);
+    const VertexRecord& rb = m_mesh.vertex(e.b);
+    const std::array<std::uint32_t, 2> olds{e.a, e.b};
+    const double w = ra.weight + rb.weight;
+    const double x = (ra.weight * ra.x + rb.weight * rb.x) / w;
+    const double y = (ra.weight * ra.y + rb.weight * rb.y) / w;
+    after_edit(m_mesh.replace(olds, x, y, nullptr));
+    m_out.merges += 1;
+    return true;
+}
+
+bool Snapper::apply_split(const Event& e)
+{
+    if (!applicable(e, true)) {
+        return false;
+    }
+    const VertexRecord& ra = m_mesh.vertex(e.a);
+    const std::uint32_t split[2] = {e.b, e.c};
+    const std::array<std::uint32_t, 1> olds{e.a};
+    const std::uint32_t w = m_mesh.replace(olds, ra.x, ra.y, split);
+    m_mesh.note_snapped(w, m_owners); // m_owners: the owners guard_allows() looked up
+    after_edit(w);
+    m_out.splits += 1;
+    return true;
+}
+
+bool Snapper::apply(const Event& e)
+{
+    switch (e.kind) {
+    case Kind::face:
+        return apply_face(e);
+    case Kind::merge:
+        return apply_merge(e);
+    default:
+        return apply_split(e);
+    }
+}
+
+} // namespace trisnap::detail

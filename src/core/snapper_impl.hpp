@@ -1,0 +1,74 @@
+#pragma once
+// The snapper's insides, shared by snapper.cpp (the driver and the checks), snapper_discover.cpp
+// (finding events) and snapper_apply.cpp (applying them). See snapper.hpp for the rules.
+#include "core/snapper.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <queue>
+#include <tuple>
+#include <vector>
+
+namespace trisnap::detail {
+
+enum class Kind : std::uint8_t { face = 1, merge = 2, sliver = 3, edge = 4 };
+
+struct Event {
+    double d2; ///< squared distance
+    Kind kind;
+    std::uint32_t a, b, c; ///< face: a<b<c; merge: a<b; sliver/edge: vertex a, edge b<c
+    bool operator>(const Event& o) const { return std::tie(d2, kind, a, b, c) > std::tie(o.d2, o.kind, o.a, o.b, o.c); }
+};
+
+class Snapper {
+public:
+    Snapper(Mesh& mesh, const SnapperParams& p);
+    SnapperOutcome run();
+
+private:
+    // snapper_discover.cpp
+    void initial_scan();
+    void discover_point(std::uint32_t v, bool only_higher);
+    void discover_segment(std::uint32_t b, std::uint32_t c);
+    void check_face(cdt::Face_handle f);
+    void check_changed_faces();
+    void after_edit(std::uint32_t w);
+    // snapper_apply.cpp
+    bool apply(const Event& e);
+    bool applicable(const Event& e, bool count_guard);
+    bool apply_face(const Event& e);
+    bool apply_merge(const Event& e);
+    bool apply_split(const Event& e);
+    bool visible(std::uint32_t a, std::uint32_t b);
+    bool guard_allows(std::uint32_t v, std::uint32_t b, std::uint32_t c, bool count_guard);
+    // snapper.cpp
+    std::size_t drain();
+    bool retry_parked();
+    std::size_t count_misses();
+    void collect_unresolved();
+
+    void push(double d2, Kind k, std::uint32_t a, std::uint32_t b, std::uint32_t c) { m_queue.push(Event{d2, k, a, b, c}); }
+    bool alive(std::uint32_t v) const { return m_mesh.vertex(v).alive; }
+    double dist2(std::uint32_t p, std::uint32_t q) const
+    {
+        const double dx = m_mesh.vertex(p).x - m_mesh.vertex(q).x;
+        const double dy = m_mesh.vertex(p).y - m_mesh.vertex(q).y;
+        return dx * dx + dy * dy;
+    }
+
+    Mesh& m_mesh;
+    SnapperParams m_p;
+    double m_vt2;     ///< squared thresholds
+    double m_et2;
+    double m_st2;
+    SnapperOutcome m_out;
+    std::priority_queue<Event, std::vector<Event>, std::greater<>> m_queue;
+    std::vector<Event> m_parked;       ///< merges refused because a constraint lay between
+    std::vector<void*> m_changed;      ///< faces CGAL created or changed since the last look
+    std::vector<std::pair<double, std::uint32_t>> m_near;
+    std::vector<EdgeHit> m_edges;
+    std::vector<std::uint32_t> m_owners;
+    std::size_t m_ops = 0;
+};
+
+} // namespace trisnap::detail

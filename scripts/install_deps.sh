@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # Installs what trisnap needs from the Debian archive (idempotent: apt skips what is there).
+# With --slurm: Slurm and MUNGE too, for scripts/slurm/local-cluster-test (the `cluster` tests).
 set -euo pipefail
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
@@ -10,7 +11,11 @@ packages=(
   libtbb-dev
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev libgeos-dev
+  clang libclang-rt-14-dev
 )
+if [ "${1:-}" = "--slurm" ]; then
+  packages+=(slurm-wlm munge)
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

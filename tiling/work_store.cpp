@@ -35,9 +35,21 @@ void write_all(int fd, const char* data, std::size_t n, const std::string& path)
     }
 }
 
+// Unique among the processes that may write one name at once, on every machine that shares the
+// directory: two array tasks (a requeued one and its predecessor, or Kubernetes pods, where
+// every process may be PID 1) never write through the same temporary file.
+std::string temp_suffix()
+{
+    char host[256] = {};
+    if (::gethostname(host, sizeof host - 1) != 0) {
+        host[0] = '\0';
+    }
+    return ".tmp-" + std::string(host) + "-" + std::to_string(::getpid());
+}
+
 class DirOutFile : public OutFile {
 public:
-    DirOutFile(std::string path) : m_path(std::move(path)), m_temp(m_path + ".tmp-" + std::to_string(::getpid()))
+    DirOutFile(std::string path) : m_path(std::move(path)), m_temp(m_path + temp_suffix())
     {
         m_fd = ::open(m_temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
         if (m_fd < 0) {

@@ -4,7 +4,7 @@
 // path). Both behave alike, so one pipeline runs on either.
 //
 // Guarantees of the directory store: a file created with create() appears under its name only
-// when commit() succeeded (written to NAME.tmp-PID, flushed, fsync'ed, renamed), so a process
+// when commit() succeeded (written to NAME.tmp-HOST-PID, flushed, fsync'ed, renamed), so a process
 // killed at any moment leaves either the whole file or none under that name; every write, flush
 // and close is checked and a failure throws work_error naming the file and the system's reason
 // (a full disk too). append() is for buckets, which a phase seals as a whole (its checkpoint).

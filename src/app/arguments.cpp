@@ -17,6 +17,7 @@ const std::map<std::string, std::string>& ogr2ogr_spellings()
         {"-nln", "--nln"},         {"-lco", "--lco"},         {"-dsco", "--dsco"},
         {"-oo", "--oo"},           {"-where", "--where"},     {"-select", "--select"},
         {"-overwrite", "--overwrite"}, {"-skipfailures", "--skipfailures"},
+        {"-update", "--update"},   {"-append", "--append"},
         {"-progress", "--progress=always"},
     };
     return spellings;

@@ -1,52 +1,18 @@
 #include "app/budget.hpp"
 
+#include "app/estimate.hpp"
 #include "app/memory.hpp"
 #include "app/work_dir.hpp"
-#include "io/dataset.hpp"
 
 #include <cpl_conv.h>
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <filesystem>
-#include <thread>
 
 namespace trisnap {
-namespace fs = std::filesystem;
 namespace {
 
 constexpr std::uint64_t k_mib = 1024 * 1024;
-
-// Bytes of the input's files: the path and its siblings of the same stem (a Shapefile's
-// .shp/.dbf/.shx), without opening it.
-std::uint64_t input_bytes(const std::string& input)
-{
-    std::error_code ec;
-    const fs::path p(input);
-    if (!fs::is_regular_file(p, ec)) {
-        return 0;
-    }
-    std::uint64_t n = fs::file_size(p, ec);
-    if (p.extension() == ".shp") {
-        for (const char* ext : {".dbf", ".shx"}) {
-            fs::path sibling = p;
-            sibling.replace_extension(ext);
-            n += fs::is_regular_file(sibling, ec) ? fs::file_size(sibling, ec) : 0;
-        }
-    }
-    return n;
-}
-
-// The in-memory run's peak: the process (~100 MiB), the work files held in memory (features,
-// buckets and results: about 4x the input's bytes for GeoPackage/Shapefile/FlatGeobuf, 40x for
-// a compressed .osm.pbf), and the tiles in flight (2 per thread at the vertex budget).
-std::uint64_t estimate(const SnapArgs& args, const Config& config, unsigned threads)
-{
-    const std::uint64_t in = input_bytes(args.input);
-    const double factor = is_osm_path(args.input) ? 40.0 : 4.0;
-    const double tiles = 2.0 * threads * static_cast<double>(config.tiling.vertex_budget) * 1100.0;
-    return static_cast<std::uint64_t>(100.0 * k_mib + factor * static_cast<double>(in) + tiles);
-}
 
 void set_default(const char* key, const std::string& value)
 {
@@ -60,9 +26,8 @@ void set_default(const char* key, const std::string& value)
 RunBudget choose_budget(const SnapArgs& args, const Config& config)
 {
     RunBudget b;
-    const unsigned threads = config.run.threads > 0 ? static_cast<unsigned>(config.run.threads)
-                                                    : std::max(1u, std::thread::hardware_concurrency());
-    b.estimate = estimate(args, config, threads);
+    // Before the input is opened: its vertices are bounded from its size (see estimate.hpp).
+    b.estimate = estimate_run(estimate_input(args.input, -1, -1), estimate_settings(config)).peak_bytes;
     b.resume = args.resume;
     if (config.run.memory_limit > 0) {
         b.on_disk = true;

@@ -3,7 +3,8 @@
 // files in a directory. Decided before the input is opened (GDAL's caches and the OSM driver's
 // node index are configured from it).
 //  - `--memory-limit SIZE` (or [run] memory_limit): out of core under SIZE;
-//  - else: in memory when the layer's estimate fits in half of the machine's memory (or its
+//  - else: in memory when the run's estimate (app/estimate.hpp, with the vertices bounded from
+//    the input's size, as nothing is open yet) fits in half of the machine's memory (or its
 //    cgroup limit), otherwise out of core under that half;
 //  - `--work-dir DIR` or `--resume`: the work files go to a directory whatever the memory.
 #include "app/options.hpp"
@@ -17,7 +18,7 @@ namespace trisnap {
 struct RunBudget {
     bool on_disk = false;           ///< work files in a directory
     std::uint64_t memory_limit = 0; ///< bytes the whole process may hold; 0: not bounded
-    std::uint64_t estimate = 0;     ///< the layer's estimated peak in memory (bytes)
+    std::uint64_t estimate = 0;     ///< the run's estimated peak (bytes), from the input's size
     std::string reason;             ///< why this mode, for the plan and the report
     std::string work_dir;
     bool resume = false;

@@ -1,6 +1,7 @@
 // `trisnap info IN [--layer NAME]`: layers, geometry types, counts, CRS, extent, vertices, and a
-// rough estimate of what a snap run would need.
+// estimate of what a snap run would need (app/estimate.hpp).
 #include "app/command.hpp"
+#include "app/estimate.hpp"
 #include "app/options.hpp"
 #include "app/text.hpp"
 #include "io/dataset.hpp"
@@ -13,7 +14,17 @@
 namespace trisnap {
 namespace {
 
-void print_layer(const LayerInfo& info)
+// What `trisnap snap IN OUT --layer NAME` would need with the default settings, and --no-tiles.
+void print_estimates(const std::string& input, const LayerInfo& info)
+{
+    const EstimateInput in = estimate_input(input, info.vertices, info.features);
+    EstimateSettings settings = estimate_settings(Config{});
+    std::cout << fmt::format("  snap:     {}\n", describe_estimate(estimate_run(in, settings), settings));
+    settings.tiled = false;
+    std::cout << fmt::format("            {}\n", describe_estimate(estimate_run(in, settings), settings));
+}
+
+void print_layer(const std::string& input, const LayerInfo& info)
 {
     std::cout << fmt::format("layer '{}': {}, {}, {}\n", info.name, info.declared_type,
                              count_of(info.features, "feature"), count_of(info.vertices, "vertex", "vertices"));
@@ -27,9 +38,7 @@ void print_layer(const LayerInfo& info)
     std::cout << fmt::format("  fields:   {}{}\n", info.fields,
                              info.fid_column.empty() ? "" : ", FID column " + info.fid_column);
     if (!is_snappable_layer_type(info.geometry_type)) return;
-    const RunEstimate e = estimate_run(info.vertices, info.features);
-    std::cout << fmt::format("  snap:     ~{:.0f} MB, ~{:.1f} s in one triangulation (rough estimate)\n",
-                             e.memory_mb, e.seconds);
+    print_estimates(input, info);
 }
 
 class InfoCommand : public Command {
@@ -52,7 +61,7 @@ public:
         const std::vector<LayerInfo> infos = scan_layers(*dataset, only); // may throw: print after
         std::cout << fmt::format("{} ({}), {}\n", m_input, dataset->GetDriverName(),
                                  count_of(dataset->GetLayerCount(), "layer"));
-        for (const LayerInfo& info : infos) print_layer(info);
+        for (const LayerInfo& info : infos) print_layer(m_input, info);
         return 0;
     }
 

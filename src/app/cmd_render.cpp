@@ -36,8 +36,8 @@ public:
 
     int run() override
     {
-        if (!m_bbox.empty()) {
-            const std::vector<double> b = parse_bbox(m_bbox);
+        if (m_bbox) {
+            const std::vector<double> b = parse_bbox(*m_bbox);
             m_options.bbox = render::Box{b[0], b[1], b[2], b[3]};
         }
         if (m_worst) {
@@ -59,7 +59,8 @@ public:
 
 private:
     render::RenderOptions m_options;
-    std::string m_bbox;
+    std::optional<std::string> m_bbox; ///< given (even empty) or not
+    std::optional<double> m_tolerance;
     std::optional<int> m_worst;
 };
 

@@ -41,10 +41,7 @@ public:
                 stage_report(outputs, m_args.report, p, r, total);
             }
         });
-        if (!m_args.problems_layer.empty())
-            write_problems_layer(m_args.problems_layer, result.problems, plan.layer->GetSpatialRef());
-        if (m_args.quiet == 0) print_summary(is_stdout_path(plan.write.path) ? std::cerr : std::cout, plan, result, total);
-        return m_args.strict && !result.problems.empty() ? 3 : 0;
+        return deliver_run(m_args, plan, result, total);
     }
 
 private:
@@ -52,6 +49,18 @@ private:
 };
 
 } // namespace
+
+int deliver_run(const SnapArgs& args, const Plan& plan, const RunResult& result, double total_seconds)
+{
+    if (!args.problems_layer.empty()) {
+        const bool update = args.overwrite || args.update || args.append;
+        write_problems_layer(args.problems_layer, result.problems, plan.layer->GetSpatialRef(), update);
+    }
+    if (args.quiet == 0) {
+        print_summary(is_stdout_path(plan.write.path) ? std::cerr : std::cout, plan, result, total_seconds);
+    }
+    return args.strict && !result.problems.empty() ? 3 : 0;
+}
 
 std::unique_ptr<Command> make_snap_command() { return std::make_unique<SnapCommand>(); }
 

@@ -1,5 +1,6 @@
 #include "app/exit_status.hpp"
 
+#include "app/interrupt.hpp"
 #include "config/errors.hpp"
 
 #include <new>
@@ -7,7 +8,7 @@
 namespace trisnap {
 namespace {
 
-constexpr const char* k_memory_hint = "out of memory; try a smaller --bbox, smaller tiles or a machine with more memory";
+constexpr const char* k_memory_hint = "out of memory; give --memory-limit (out of core under that much), or a smaller --bbox";
 
 /// The text of `e` and of every exception nested inside it, outermost first.
 std::string full_message(const std::exception& e)
@@ -47,6 +48,9 @@ ExitStatus exit_status(const std::exception& e)
     }
     if (is_out_of_memory(e)) {
         return {1, std::string(k_memory_hint) + " (" + e.what() + ")"};
+    }
+    if (const auto* stop = dynamic_cast<const interrupted*>(&e)) {
+        return {stop->signal() == SIGINT ? 130 : 1, e.what()};
     }
     const bool usage = dynamic_cast<const argument_error*>(&e) != nullptr ||
                        dynamic_cast<const config_error*>(&e) != nullptr;

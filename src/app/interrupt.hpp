@@ -1,10 +1,24 @@
 #pragma once
-// Ctrl-C while the output is being written: stop at the next feature and throw, so the writer's
-// destructor removes its temporary directory. Installed only around the write phase; elsewhere
-// (reading, snapping) nothing exists at OUT yet and the default action (terminate) is right.
+// SIGINT and SIGTERM during a run: the first one is remembered and the run stops at the next
+// check (between features while reading and writing, between tiles while snapping), throws
+// `interrupted`, and every scope guard removes what it made: nothing is left at OUT. A second
+// signal restores the default action, so a run stuck in one long tile still stops at once
+// (its hidden temporary directory is removed by the next run; OUT is never touched).
 #include <csignal>
+#include <stdexcept>
+#include <string>
 
 namespace trisnap {
+
+/// A run stopped by a signal: exit 130 for SIGINT (what shells expect), 1 for SIGTERM.
+class interrupted : public std::runtime_error {
+public:
+    interrupted(int signal, const std::string& message) : std::runtime_error(message), m_signal(signal) {}
+    int signal() const { return m_signal; }
+
+private:
+    int m_signal;
+};
 
 class InterruptGuard {
 public:
@@ -13,10 +27,16 @@ public:
     InterruptGuard(const InterruptGuard&) = delete;
     InterruptGuard& operator=(const InterruptGuard&) = delete;
 
-    /// Throws std::runtime_error when a signal arrived since construction.
+    /// Throws `interrupted` when a signal arrived since construction.
     void check() const;
+    /// What the run was doing, for the message ("snapping": "interrupted by SIGINT while snapping").
+    void set_activity(const char* activity) { m_activity = activity; }
+    /// Replaces the whole message after "interrupted by SIGxxx" (cluster tasks keep their tiles).
+    void set_message(const char* message) { m_message = message; }
 
 private:
+    const char* m_activity = "reading";
+    const char* m_message = nullptr;
     struct sigaction m_old_int{};
     struct sigaction m_old_term{};
 };

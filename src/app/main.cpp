@@ -61,7 +61,8 @@ int main(int argc, char** argv)
     std::vector<std::pair<CLI::App*, std::unique_ptr<trisnap::Command>>> commands;
     for (auto make : {trisnap::make_snap_command, trisnap::make_validate_command, trisnap::make_info_command,
                       trisnap::make_problems_command, trisnap::make_assess_command,
-                      trisnap::make_render_command}) {
+                      trisnap::make_render_command, trisnap::make_plan_command, trisnap::make_snap_tiles_command,
+                      trisnap::make_stitch_command}) {
         auto command = make();
         CLI::App* sub = command->setup(app);
         commands.emplace_back(sub, std::move(command));

@@ -4,13 +4,14 @@
 #include "config/errors.hpp"
 #include "config/size.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
 
 namespace trisnap {
-namespace {
 
 void add_input_options(CLI::App& c, SnapArgs& a)
 {
@@ -32,11 +33,18 @@ void add_output_options(CLI::App& c, SnapArgs& a, bool writes)
     c.add_option("--dsco", a.dataset_options, "dataset creation option K=V (repeatable), as ogr2ogr -dsco");
     c.add_option("--nln", a.new_layer_name, "output layer name (also -nln; default: the input layer's)");
     c.add_option("--select", a.select, "write only these fields, comma-separated (also -select)");
-    c.add_flag("--overwrite", a.overwrite, "replace OUT (and --problems-layer) if it exists");
+    c.add_flag("--overwrite", a.overwrite, "replace OUT's layer in a GPKG/SQLite file (its other layers stay), else "
+                                           "OUT itself, and --problems-layer, if they exist (also -overwrite)");
+    c.add_flag("--update", a.update, "write the layer into an existing GPKG/SQLite OUT beside its other layers "
+                                     "(also -update)");
+    c.add_flag("--append", a.append, "add the features to OUT's layer of that name (GPKG/SQLite; also -append)");
     c.add_flag("--skipfailures", a.skip_failures, "accepted for ogr2ogr: features the driver refuses are always "
                                                   "skipped and reported (problem 902)");
     c.add_option("--report", a.report, "write the run manifest and problems as JSON to FILE");
     c.add_option("--problems-layer", a.problems_layer, "write the problems as points to FILE.gpkg or FILE.geojson");
+    c.add_flag("--allow-collapse,--force", a.allow_collapse, "write OUT even when snapping drops more than 10 % of "
+                                                         "the features, or any with a tolerance in degrees >= 0.001 "
+                                                         "([run] allow_collapse)");
 }
 
 void add_engine_options(CLI::App& c, SnapArgs& a)
@@ -50,25 +58,42 @@ void add_engine_options(CLI::App& c, SnapArgs& a)
     c.add_option("--max-operations", a.max_operations, "engine operation cap; 0 = automatic ([snap] max_operations)");
 }
 
-void add_run_options(CLI::App& c, SnapArgs& a)
+void add_settings_options(CLI::App& c, SnapArgs& a)
 {
     c.add_option("--settings", a.settings_file, "TOML settings file (see configs/README.md); --config FILE.toml works too");
     c.add_flag("--print-config", a.print_config, "print the resolved configuration as TOML and exit");
-    c.add_flag("--strict", a.strict, "exit with code 3 when any problem is reported");
-    c.add_option("--threads", a.threads, "worker threads for GDAL and oneTBB; 0 = all cores ([run] threads)");
+}
+
+void add_tiling_options(CLI::App& c, SnapArgs& a)
+{
     c.add_option("--tile-size", a.tile_size, "regular square tiles of this side in layer units; 0 = balanced by vertex count ([tiling] size)");
     c.add_option("--tile-vertex-budget", a.tile_vertex_budget, "balanced tiles hold at most this many input vertices ([tiling] vertex_budget)");
     c.add_option("--halo", a.halo, "tile halo width as a factor of the tolerance, >= 2 ([tiling] halo)");
     c.add_option("--halo-max-growth", a.halo_max_growth, "times a tile's halo may double when a snap cascade reaches its core ([tiling] max_growth)");
     c.add_flag("--no-tiles", a.no_tiles, "one triangulation for the whole layer ([tiling] no_tiles)");
-    c.add_option("--memory-limit", a.memory_limit, "out of core under this much memory, e.g. 2GiB, 512MiB ([run] memory_limit)");
-    c.add_option("--work-dir", a.work_dir, "directory for the work files of an out-of-core run (default: .OUT.trisnap-work beside OUT)");
-    c.add_flag("--resume", a.resume, "continue the run whose work directory is there (same command and input)");
+}
+
+void add_logging_options(CLI::App& c, SnapArgs& a)
+{
     c.add_option("--progress", a.progress, "progress bar: auto (TTY only), always, never")
         ->check(CLI::IsMember({"auto", "always", "never"}));
     c.add_flag("--json-progress", a.json_progress, "progress as JSON lines on stderr");
     c.add_flag("-v,--verbose", a.verbose, "more log output (repeatable)");
     c.add_flag("-q,--quiet", a.quiet, "only errors; no summary");
+}
+
+namespace {
+
+void add_run_options(CLI::App& c, SnapArgs& a)
+{
+    add_settings_options(c, a);
+    c.add_flag("--strict", a.strict, "exit with code 3 when any problem is reported");
+    c.add_option("--threads", a.threads, "worker threads for GDAL and oneTBB; 0 = all cores ([run] threads)");
+    add_tiling_options(c, a);
+    c.add_option("--memory-limit", a.memory_limit, "out of core under this much memory, e.g. 2GiB, 512MiB ([run] memory_limit)");
+    c.add_option("--work-dir", a.work_dir, "directory for the work files of an out-of-core run (default: .OUT.trisnap-work beside OUT)");
+    c.add_flag("--resume", a.resume, "continue the run whose work directory is there (same command and input)");
+    add_logging_options(c, a);
 }
 
 template <typename T, typename U>
@@ -107,6 +132,9 @@ Config resolve_config(const SnapArgs& args)
     overlay(args.max_drift_factor, config.snap.max_drift_factor);
     overlay(args.max_operations, config.snap.max_operations);
     overlay(args.threads, config.run.threads);
+    if (args.allow_collapse) {
+        config.run.allow_collapse = true;
+    }
     if (args.memory_limit) {
         config.run.memory_limit = parse_size(*args.memory_limit, "--memory-limit");
     }
@@ -172,10 +200,22 @@ std::vector<std::string> split_list(const std::string& text)
     return items;
 }
 
+void clamp_threads(Config& config)
+{
+    const int cores = available_cores();
+    if (config.run.threads <= cores) {
+        return;
+    }
+    // More threads than cores only adds contention: 10000 spawned thousands and took minutes.
+    spdlog::warn("threads {} is more than the {} cores available; using {}", config.run.threads, cores, cores);
+    config.run.threads = cores;
+}
+
 std::optional<Config> start_snap_command(const SnapArgs& args)
 {
     setup_logging(args.verbose, args.quiet);
     Config config = resolve_config(args);
+    clamp_threads(config);
     if (!args.print_config) return config;
     std::cout << to_toml(config);
     return std::nullopt;

@@ -19,7 +19,7 @@ struct SnapArgs {
     std::string format;
     std::string new_layer_name; ///< -nln
     std::string where;
-    std::string bbox;
+    std::optional<std::string> bbox; ///< given (even empty) or not
     std::string settings_file; ///< --settings (also --config FILE.toml)
     std::string problems_layer; ///< --problems-layer FILE.gpkg|.geojson
     std::string progress = "auto";
@@ -44,6 +44,9 @@ struct SnapArgs {
     bool resume = false;
     bool no_tiles = false;
     bool overwrite = false;
+    bool update = false;         ///< --update: write the layer into an existing OUT
+    bool append = false;         ///< --append: add to OUT's layer of that name
+    bool allow_collapse = false; ///< --allow-collapse, --force ([run] allow_collapse)
     bool strict = false;
     bool print_config = false;
     bool json_progress = false;
@@ -55,8 +58,26 @@ struct SnapArgs {
 /// Declares the snap/validate options on `command`; values land in `args`.
 void add_snap_options(CLI::App& command, SnapArgs& args, bool needs_output);
 
+/// The groups of options add_snap_options declares, for the commands that take some of them
+/// (plan, stitch): IN, --layer, --oo, --where, --bbox;
+void add_input_options(CLI::App& command, SnapArgs& args);
+/// OUT, -f, --lco, --dsco, -nln, --select, --overwrite, --update, --append, --skipfailures, --report, --problems-layer,
+/// --allow-collapse;
+void add_output_options(CLI::App& command, SnapArgs& args, bool writes);
+/// --tolerance, --tolerance-m and the engine settings;
+void add_engine_options(CLI::App& command, SnapArgs& args);
+/// --settings, --print-config;
+void add_settings_options(CLI::App& command, SnapArgs& args);
+/// --tile-size, --tile-vertex-budget, --halo, --halo-max-growth, --no-tiles;
+void add_tiling_options(CLI::App& command, SnapArgs& args);
+/// --progress, --json-progress, -v, -q.
+void add_logging_options(CLI::App& command, SnapArgs& args);
+
 /// Defaults, then the --settings file, then flags. Throws config_error / argument_error.
 Config resolve_config(const SnapArgs& args);
+
+/// Lowers config.run.threads to the cores available, with one warning, when it asks for more.
+void clamp_threads(Config& config);
 
 /// The common start of snap and validate: logging set up, config resolved. With
 /// --print-config it prints the resolved TOML and returns nothing (the command is done).

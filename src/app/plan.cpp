@@ -10,6 +10,7 @@
 #include "io/output_driver.hpp"
 #include "io/problems_layer.hpp"
 #include "io/tolerance.hpp"
+#include "io/update_target.hpp"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -35,8 +36,8 @@ void apply_filters(const SnapArgs& args, OGRLayer& layer)
         if (!capture.errors().empty())
             throw argument_error("--where '" + args.where + "': " + capture.last_error());
     }
-    if (!args.bbox.empty()) {
-        const std::vector<double> b = parse_bbox(args.bbox);
+    if (args.bbox) {
+        const std::vector<double> b = parse_bbox(*args.bbox);
         layer.SetSpatialFilterRect(b[0], b[1], b[2], b[3]);
     }
 }
@@ -58,24 +59,11 @@ double resolve_tolerance(const Config& config, OGRLayer& layer, std::string& not
     note = "layer units";
     if (srs && srs->IsGeographic()) {
         note = "degrees";
-        if (t >= 0.001)
-            spdlog::warn("--tolerance {} is in degrees on this geographic CRS (>= {:.0f} m); "
-                         "for metres use --tolerance-m", t, t * metres_per_degree(0) * 0.99);
+    }
+    if (degrees_above_warning(t, false, srs)) {
+        spdlog::warn("{}", degree_warning(t));
     }
     return t;
-}
-
-SnapOptions engine_options(const Config& config, double tolerance)
-{
-    SnapOptions o;
-    o.tolerance = tolerance;
-    o.edge_separation = config.snap.edge_separation;
-    o.sliver_factor = config.snap.sliver_factor;
-    o.grid = config.snap.grid;
-    o.max_drift_factor = config.snap.max_drift_factor;
-    o.max_operations = static_cast<std::size_t>(config.snap.max_operations);
-    if (std::string reason = validate(o); !reason.empty()) throw argument_error(reason);
-    return o;
 }
 
 WriteOptions write_options(const SnapArgs& args)
@@ -90,6 +78,8 @@ WriteOptions write_options(const SnapArgs& args)
     w.dataset_options = args.dataset_options;
     w.fields = split_list(args.select);
     w.overwrite = args.overwrite;
+    w.update = args.update;
+    w.append = args.append;
     return w;
 }
 
@@ -118,14 +108,52 @@ void check_distinct(const std::vector<std::pair<std::string, std::string>>& file
     }
 }
 
+/// --problems-layer naming OUT itself: a layer "problems" written into it after the output
+/// layer, when OUT is a GeoPackage written with --overwrite, --update or --append.
+bool problems_beside_output(const SnapArgs& args, const Plan& plan)
+{
+    namespace fs = std::filesystem;
+    const bool updates = args.overwrite || args.update || args.append;
+    const std::string name = plan.write.layer_name.empty() ? plan.layer->GetName() : plan.write.layer_name;
+    return updates && plan.output_driver == "GPKG" && name != "problems" && !args.problems_layer.empty() &&
+           fs::weakly_canonical(args.problems_layer) == fs::weakly_canonical(plan.write.path);
+}
+
 void check_outputs(const SnapArgs& args, Plan& plan, GDALDriver& driver)
 {
     probe_output(driver, plan.write, *plan.layer);
+    check_update_target(plan.write, driver, *plan.layer);
     check_report_path(args.report);
     if (!args.problems_layer.empty()) {
-        check_problems_layer_path(args.problems_layer, args.overwrite);
+        check_problems_layer_path(args.problems_layer, args.overwrite, args.update || args.append);
     }
-    check_distinct({{"OUT", plan.write.path}, {"--report", args.report}, {"--problems-layer", args.problems_layer}});
+    const std::string problems = problems_beside_output(args, plan) ? "" : args.problems_layer;
+    check_distinct({{"OUT", plan.write.path}, {"--report", args.report}, {"--problems-layer", problems}});
+}
+
+/// The input half of a plan: the dataset, the layer, its filters and its feature count.
+void open_layer(const SnapArgs& args, Plan& plan)
+{
+    plan.input_path = args.input;
+    check_key_values(args.open_options, "--oo");
+    plan.dataset = open_input(args.input, args.open_options);
+    plan.input_driver = plan.dataset->GetDriverName();
+    plan.layer = &select_layer(*plan.dataset, args.input, args.layer);
+    plan.crs = describe_crs(plan.layer->GetSpatialRef());
+    apply_filters(args, *plan.layer);
+    if (plan.input_driver != "OSM") {
+        plan.feature_count = plan.layer->GetFeatureCount(TRUE);
+    }
+    check_not_empty(plan);
+}
+
+/// What the engine and the tiles get: the tolerance in layer units, engine and tiling options.
+void resolve_engine(const SnapArgs& args, const Config& config, Plan& plan)
+{
+    plan.tolerance = resolve_tolerance(config, *plan.layer, plan.tolerance_note);
+    plan.options = engine_options(config, plan.tolerance);
+    plan.bbox = args.bbox.value_or("");
+    plan.tiling = tiling_options(config);
 }
 
 /// The plan as info lines (-v), the same text `validate` prints.
@@ -154,11 +182,37 @@ void protect_input(Plan& plan, const SnapArgs& args, GDALDriver& driver)
         check_text_file_target(args.report, taken, "--report");
     }
     if (!args.problems_layer.empty()) {
-        check_text_file_target(args.problems_layer, taken, "--problems-layer");
+        const bool beside = problems_beside_output(args, plan); // OUT's file, but never the input's
+        check_text_file_target(args.problems_layer, beside ? plan.write.protected_files : taken, "--problems-layer");
     }
 }
 
 } // namespace
+
+SnapOptions engine_options(const Config& config, double tolerance)
+{
+    SnapOptions o;
+    o.tolerance = tolerance;
+    o.edge_separation = config.snap.edge_separation;
+    o.sliver_factor = config.snap.sliver_factor;
+    o.grid = config.snap.grid;
+    o.max_drift_factor = config.snap.max_drift_factor;
+    o.max_operations = static_cast<std::size_t>(config.snap.max_operations);
+    if (std::string reason = validate(o); !reason.empty()) throw argument_error(reason);
+    return o;
+}
+
+stitch::TilingOptions tiling_options(const Config& config)
+{
+    stitch::TilingOptions t;
+    t.plan.single = config.tiling.no_tiles;
+    t.plan.tile_size = config.tiling.size;
+    t.plan.vertex_budget = static_cast<std::size_t>(config.tiling.vertex_budget);
+    t.halo_factor = config.tiling.halo;
+    t.max_growth = config.tiling.max_growth;
+    t.threads = config.run.threads;
+    return t;
+}
 
 Plan make_plan(const SnapArgs& args, const Config& config)
 {
@@ -171,29 +225,23 @@ Plan make_plan(const SnapArgs& args, const Config& config)
     plan.output_driver = driver.GetDescription();
     plan.keeps_fids = driver_keeps_fids(driver);
     check_output_path(plan.write, args.input);
-    plan.input_path = args.input;
-    check_key_values(args.open_options, "--oo");
-    plan.dataset = open_input(args.input, args.open_options);
+    open_layer(args, plan);
     protect_input(plan, args, driver);
-    plan.input_driver = plan.dataset->GetDriverName();
-    plan.layer = &select_layer(*plan.dataset, args.input, args.layer);
-    plan.crs = describe_crs(plan.layer->GetSpatialRef());
-    apply_filters(args, *plan.layer);
-    if (plan.input_driver != "OSM") {
-        plan.feature_count = plan.layer->GetFeatureCount(TRUE);
-    }
-    check_not_empty(plan);
     check_outputs(args, plan, driver);
-    plan.tolerance = resolve_tolerance(config, *plan.layer, plan.tolerance_note);
-    plan.options = engine_options(config, plan.tolerance);
-    plan.bbox = args.bbox;
-    plan.tiling.plan.single = config.tiling.no_tiles;
-    plan.tiling.plan.tile_size = config.tiling.size;
-    plan.tiling.plan.vertex_budget = static_cast<std::size_t>(config.tiling.vertex_budget);
-    plan.tiling.halo_factor = config.tiling.halo;
-    plan.tiling.max_growth = config.tiling.max_growth;
-    plan.tiling.threads = config.run.threads;
+    resolve_engine(args, config, plan);
     log_plan(plan);
+    return plan;
+}
+
+Plan make_input_plan(const SnapArgs& args, const Config& config)
+{
+    if (args.input.empty()) {
+        throw argument_error("missing IN: trisnap plan IN RUN_DIR --tolerance T");
+    }
+    Plan plan;
+    plan.config = config;
+    open_layer(args, plan);
+    resolve_engine(args, config, plan);
     return plan;
 }
 

@@ -38,6 +38,17 @@ struct Plan {
 /// resolves the tolerance and checks the output. Throws argument_error, config_error, io_error.
 Plan make_plan(const SnapArgs& args, const Config& config);
 
+/// The input half of make_plan (no output: `trisnap plan`): the layer, its filters, the
+/// tolerance in layer units, the engine and tiling options.
+Plan make_input_plan(const SnapArgs& args, const Config& config);
+
+/// The engine's options from the settings and the tolerance in layer units; throws
+/// argument_error for unusable values.
+SnapOptions engine_options(const Config& config, double tolerance);
+
+/// The tiling options from the settings ([tiling], and [run] threads).
+stitch::TilingOptions tiling_options(const Config& config);
+
 /// Human-readable plan (the output of `validate`).
 void print_plan(const Plan& plan, std::ostream& out);
 

@@ -158,11 +158,6 @@ std::string report_text(const Plan& plan, const RunResult& result, double total_
     return report.dump(2, ' ', false, ordered_json::error_handler_t::replace) + "\n";
 }
 
-void write_report(const std::string& path, const Plan& plan, const RunResult& result, double total_seconds)
-{
-    write_text_file_atomically(path, report_text(plan, result, total_seconds), plan.write.protected_files, "--report");
-}
-
 void stage_report(CommitGroup& group, const std::string& path, const Plan& plan, const RunResult& result,
                   double total_seconds)
 {

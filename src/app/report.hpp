@@ -20,10 +20,6 @@ std::map<int, std::size_t> count_by_code(const std::vector<Problem>& problems);
 /// Strings that are not valid UTF-8 (a file name in another encoding) get U+FFFD for each bad byte.
 std::string report_text(const Plan& plan, const RunResult& result, double total_seconds);
 
-/// Writes the manifest atomically (a temporary file beside it, flushed, renamed). Throws
-/// io_error when the file cannot be written, argument_error for a path that is an input file.
-void write_report(const std::string& path, const Plan& plan, const RunResult& result, double total_seconds);
-
 /// Writes the manifest to its temporary file and stages it in `group`, to be renamed with OUT.
 void stage_report(CommitGroup& group, const std::string& path, const Plan& plan, const RunResult& result,
                   double total_seconds);

@@ -6,6 +6,9 @@
 #include <spdlog/sinks/stdout_sinks.h>
 #include <spdlog/spdlog.h>
 #include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <algorithm>
 
 #include <string>
 
@@ -45,6 +48,11 @@ void setup_logging(int verbose, int quiet)
     if (verbose >= 2 && quiet == 0 && !CPLGetConfigOption("CPL_DEBUG", nullptr)) {
         CPLSetConfigOption("CPL_DEBUG", "ON"); // -vv: GDAL's own debug lines
     }
+}
+
+int available_cores()
+{
+    return std::max(1, tbb::info::default_concurrency());
 }
 
 struct ThreadLimit::Impl {

@@ -16,7 +16,6 @@ namespace {
 const char* const k_manifest = "manifest.json";
 const char* const k_created = "created-by-trisnap"; ///< the directory goes with the run
 
-// The first key where two manifests differ, for the message.
 std::string first_difference(const nlohmann::json& a, const nlohmann::json& b, const std::string& prefix = "")
 {
     if (a.is_object() && b.is_object()) {
@@ -48,6 +47,11 @@ bool holds_only_work_files(const fs::path& dir)
 }
 
 } // namespace
+
+std::string manifest_difference(const nlohmann::json& a, const nlohmann::json& b)
+{
+    return first_difference(a, b);
+}
 
 WorkDir WorkDir::in_memory()
 {
@@ -81,6 +85,26 @@ WorkDir WorkDir::on_disk(const std::string& path, bool resume)
         if (w.m_created) {
             w.m_store->put(k_created, "");
         }
+    } catch (const tiling::work_error& e) {
+        throw io_error(path, "", e.what());
+    }
+    return w;
+}
+
+WorkDir WorkDir::attach(const std::string& path)
+{
+    std::error_code ec;
+    if (!fs::is_directory(path, ec)) {
+        throw argument_error(path + ": no such run directory; make one with trisnap plan IN " + path + " --tolerance T");
+    }
+    if (!fs::exists(fs::path(path) / k_manifest, ec)) {
+        throw argument_error(path + ": not a trisnap run directory (no " + k_manifest + "); make one with trisnap plan");
+    }
+    WorkDir w;
+    w.m_path = path;
+    w.m_finished = true; // attached: never cleaned up
+    try {
+        w.m_store = tiling::make_directory_store(path);
     } catch (const tiling::work_error& e) {
         throw io_error(path, "", e.what());
     }
@@ -135,6 +159,16 @@ void WorkDir::finish()
     for (const auto& entry : fs::directory_iterator(m_path, ec)) {
         fs::remove(entry.path(), ec); // a directory the user gave holds only our files
     }
+}
+
+void WorkDir::keep()
+{
+    m_finished = true;
+}
+
+std::string WorkDir::manifest() const
+{
+    return m_store && m_store->exists(k_manifest) ? m_store->get(k_manifest) : std::string();
 }
 
 void WorkDir::cleanup_after_failure() noexcept

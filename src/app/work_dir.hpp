@@ -10,7 +10,11 @@
 //  - After success the files are removed (and the directory, when this run created it); after a
 //    failure the directory is kept when it holds committed work (say so: --resume continues
 //    it), else removed.
+//  - A cluster run (trisnap plan, snap-tiles, stitch) keeps its directory after success
+//    (keep()), and its later commands attach() to it: they never remove anything.
 #include "tiling/work_store.hpp"
+
+#include <nlohmann/json_fwd.hpp>
 
 #include <memory>
 #include <string>
@@ -23,6 +27,9 @@ public:
     /// `path` is created when missing. Throws argument_error for a path that is a file, or an
     /// existing directory with other content (without resume), io_error when it cannot be made.
     static WorkDir on_disk(const std::string& path, bool resume);
+    /// An existing run's directory, to run more phases of it; nothing in it is ever removed.
+    /// Throws argument_error naming `path` when it holds no run (no manifest).
+    static WorkDir attach(const std::string& path);
 
     WorkDir(WorkDir&&) noexcept;
     WorkDir& operator=(WorkDir&&) noexcept;
@@ -39,6 +46,10 @@ public:
     void bind(const std::string& manifest);
     /// The run succeeded: remove the work files.
     void finish();
+    /// The run succeeded and its files are kept for later commands (trisnap plan).
+    void keep();
+    /// The manifest as written by bind() (attach(): the earlier run's).
+    std::string manifest() const;
     /// Bytes of the work files now.
     std::uint64_t bytes() const;
 
@@ -53,6 +64,9 @@ private:
     bool m_resumed = false;
     bool m_finished = false;
 };
+
+/// The first key where two manifests differ ("input.files" for a nested key), for messages.
+std::string manifest_difference(const nlohmann::json& a, const nlohmann::json& b);
 
 /// The default work directory for OUT: `.NAME.trisnap-work` beside it.
 std::string default_work_dir(const std::string& output);

@@ -3,6 +3,8 @@
 // current feature; a difference between the two reads (the input changed meanwhile) stops it.
 #include "app/phases.hpp"
 
+#include "app/collapse_guard.hpp"
+
 #include "io/io_error.hpp"
 #include "io/ogr_geometry.hpp"
 #include "io/reader.hpp"
@@ -149,6 +151,7 @@ void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerge
     }
     progress.finish();
     interrupt.check();
+    check_collapse(plan, result.dropped, result.input); // before OUT is committed: nothing goes into place
     writer.commit();
     for (Problem& p : writer.take_problems()) {
         result.problems.push_back(std::move(p)); // values and field names the format changed

@@ -1,9 +1,10 @@
 #pragma once
 // Plain geometry for the assessor: points, boxes, exact orientation and segment predicates,
 // distances. Independent of src/core on purpose: assess judges the engine, it must not share
-// its arithmetic. Orientation is exact (a floating-point filter, then an exact expansion sum,
-// after Shewchuk 1997), so "touches", "collinear" and "same vertex" are decided exactly on the
-// stored doubles; distances are plain double arithmetic (measurements, not decisions).
+// its arithmetic. Orientation is exact for all finite doubles (a floating-point filter, then an
+// exact expansion sum, after Shewchuk 1997; exact rationals for coordinates beyond 2^+-400), so
+// "touches", "collinear" and "same vertex" are decided exactly on the stored doubles; distances
+// are plain double arithmetic (measurements, not decisions).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>

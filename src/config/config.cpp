@@ -4,11 +4,18 @@
 #include "config/size.hpp"
 #include "core/snap.hpp"
 
+#include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <functional>
+#include <limits>
 #include <sstream>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <toml++/toml.h>
@@ -16,6 +23,12 @@
 namespace trisnap {
 
 namespace {
+
+/// Larger than any real config; bounds what a wrong --config (a data file, a pipe) costs.
+constexpr std::size_t k_max_config_bytes = 1 << 20;
+
+/// 2^20: with t <= k_max_tolerance and 10 doublings, a halo stays below 2^510.
+constexpr double k_max_halo = 1048576.0;
 
 std::string config_message(const std::string& file, long line, const std::string& key, const std::string& reason)
 {
@@ -36,8 +49,9 @@ config_error::config_error(const std::string& file, long line, const std::string
 
 namespace {
 
-/// Reads one TOML value into the config; returns false when the value has the wrong type.
-using Setter = std::function<bool(const toml::node&, Config&)>;
+/// Reads one TOML value into the config; returns "" when it was set, else why not (wrong type,
+/// an integer that does not fit the field).
+using Setter = std::function<std::string(const toml::node&, Config&)>;
 
 struct KeySpec {
     const char* section;
@@ -45,25 +59,48 @@ struct KeySpec {
     Setter set;
 };
 
+constexpr const char* k_wrong_type = "wrong type for this key";
+
+template <typename Field>
+std::string set_integer(const toml::node& n, Field& target)
+{
+    auto v = n.as_integer();
+    if (!v) {
+        return k_wrong_type;
+    }
+    // TOML integers are 64-bit: a value that does not fit the field must not wrap (threads =
+    // 4294967297 would become 1).
+    if (!std::in_range<Field>(v->get())) {
+        return std::to_string(v->get()) + " is out of range [" + std::to_string(std::numeric_limits<Field>::min()) +
+               ", " + std::to_string(std::numeric_limits<Field>::max()) + "]";
+    }
+    target = static_cast<Field>(v->get());
+    return "";
+}
+
 // One key's setter: a float (integers accepted), an integer or a boolean from the TOML node into
-// `field` of `section`; false when the node has another type.
+// `field` of `section`.
 template <typename Section, typename Field>
 Setter set(Section Config::*section, Field Section::*field)
 {
-    return [section, field](const toml::node& n, Config& c) {
+    return [section, field](const toml::node& n, Config& c) -> std::string {
         Field& target = (c.*section).*field;
         if constexpr (std::is_same_v<Field, bool>) {
             auto v = n.as_boolean();
-            if (v) target = v->get();
-            return v != nullptr;
+            if (!v) {
+                return k_wrong_type;
+            }
+            target = v->get();
+            return "";
         } else if constexpr (std::is_integral_v<Field>) {
-            auto v = n.as_integer();
-            if (v) target = static_cast<Field>(v->get());
-            return v != nullptr;
+            return set_integer(n, target);
         } else {
             auto v = n.value<double>();
-            if (v) target = *v;
-            return v.has_value();
+            if (!v) {
+                return k_wrong_type;
+            }
+            target = *v;
+            return "";
         }
     };
 }
@@ -73,17 +110,21 @@ Setter set(Section Config::*section, Field Section::*field)
 template <typename Section>
 Setter set_size(Section Config::*section, std::uint64_t Section::*field)
 {
-    return [section, field](const toml::node& n, Config& c) {
+    return [section, field](const toml::node& n, Config& c) -> std::string {
         std::uint64_t& target = (c.*section).*field;
         if (auto text = n.value<std::string>()) {
-            target = parse_size(*text, "size");
-            return true;
+            try {
+                target = parse_size(*text, "size");
+            } catch (const argument_error& e) {
+                return e.what();
+            }
+            return "";
         }
         if (auto v = n.as_integer(); v && v->get() > 0) {
             target = static_cast<std::uint64_t>(v->get());
-            return true;
+            return "";
         }
-        return false;
+        return "expected a size such as \"2GiB\" or a number of bytes > 0";
     };
 }
 
@@ -104,6 +145,7 @@ const std::vector<KeySpec>& key_specs()
         {"tiling", "no_tiles", set(&Config::tiling, &TilingConfig::no_tiles)},
         {"run", "threads", set(&Config::run, &RunConfig::threads)},
         {"run", "memory_limit", set_size(&Config::run, &RunConfig::memory_limit)},
+        {"run", "allow_collapse", set(&Config::run, &RunConfig::allow_collapse)},
     };
     return specs;
 }
@@ -141,25 +183,63 @@ void load_section(const std::string& path, const std::string& section, const tom
         const std::string full = section + "." + std::string(key.str());
         const KeySpec* spec = find_spec(section, key.str());
         if (!spec) throw config_error(path, line_of(node), full, "unknown key");
-        bool ok = false;
-        try {
-            ok = spec->set(node, config);
-        } catch (const argument_error& e) {
-            throw config_error(path, line_of(node), full, e.what());
+        if (const std::string reason = spec->set(node, config); !reason.empty()) {
+            throw config_error(path, line_of(node), full, reason);
         }
-        if (!ok)
-            throw config_error(path, line_of(node), full, "wrong type for this key");
     }
 }
 
-toml::table parse_toml(const std::string& path)
+toml::table parse_toml(std::string_view text, const std::string& path)
 {
     try {
-        return toml::parse_file(path);
+        return toml::parse(text, path);
     } catch (const toml::parse_error& e) {
         throw config_error(path, static_cast<long>(e.source().begin.line), "",
                            std::string(e.description()));
     }
+}
+
+/// Why `path` cannot be a config file ("" when it may be): it must exist and be a regular file
+/// or a pipe; a directory or a device (/dev/zero) would otherwise read as an empty config.
+std::string unusable_file(const std::string& path)
+{
+    std::error_code ec;
+    const std::filesystem::file_status st = std::filesystem::status(path, ec);
+    if (st.type() == std::filesystem::file_type::not_found) {
+        return "no such file";
+    }
+    if (ec) {
+        return "cannot read: " + ec.message();
+    }
+    if (st.type() == std::filesystem::file_type::directory) {
+        return "is a directory, not a TOML file";
+    }
+    if (st.type() != std::filesystem::file_type::regular && st.type() != std::filesystem::file_type::fifo) {
+        return "not a regular file (a device or socket), not a TOML file";
+    }
+    return "";
+}
+
+/// The whole file, at most k_max_config_bytes; throws config_error when it cannot be read.
+std::string read_config_text(const std::string& path)
+{
+    if (const std::string reason = unusable_file(path); !reason.empty()) {
+        throw config_error(path, 0, "", reason);
+    }
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        throw config_error(path, 0, "", std::string("cannot read: ") + std::strerror(errno));
+    }
+    std::string text(k_max_config_bytes + 1, '\0');
+    in.read(text.data(), static_cast<std::streamsize>(text.size()));
+    if (in.bad()) {
+        throw config_error(path, 0, "", std::string("cannot read: ") + std::strerror(errno));
+    }
+    text.resize(static_cast<std::size_t>(in.gcount()));
+    if (text.size() > k_max_config_bytes) {
+        throw config_error(path, 0, "", "larger than 1 MiB, not a config file");
+    }
+    return text;
 }
 
 } // namespace
@@ -178,7 +258,23 @@ Config default_config()
 
 void load_config_file(const std::string& path, Config& config)
 {
-    const toml::table root = parse_toml(path);
+    load_config_text(read_config_text(path), path, config);
+}
+
+void load_config_text(std::string_view text, const std::string& path, Config& config)
+{
+    if (text.find('\0') != std::string_view::npos) {
+        throw config_error(path, 0, "", "contains a NUL byte, not a TOML text file");
+    }
+    // Debian's toml++ 3.3 reaches an "unreachable" branch (undefined behaviour) on some non-ASCII
+    // characters, in keys and elsewhere (found by fuzz_config: "0\u01a4AA", a key "snapl\u00e9rance"):
+    // every key is ASCII, so the whole file must be.
+    const auto non_ascii = std::find_if(text.begin(), text.end(), [](char c) { return static_cast<unsigned char>(c) >= 0x80; });
+    if (non_ascii != text.end()) {
+        const long line = 1 + static_cast<long>(std::count(text.begin(), non_ascii, '\n'));
+        throw config_error(path, line, "", "non-ASCII character: config files must be ASCII");
+    }
+    const toml::table root = parse_toml(text, path);
     for (auto&& [key, node] : root) {
         const std::string section(key.str());
         const bool known = section == "snap" || section == "run" || section == "tiling";
@@ -208,6 +304,7 @@ std::string to_toml(const Config& config)
     if (config.run.memory_limit > 0) {
         out += "memory_limit = " + std::to_string(config.run.memory_limit) + " # " + format_size(config.run.memory_limit) + "\n";
     }
+    out += std::string("allow_collapse = ") + (config.run.allow_collapse ? "true" : "false") + "\n";
     return out;
 }
 
@@ -217,6 +314,8 @@ std::string check_config(const Config& config)
     auto bad = [](double v) { return !std::isfinite(v); };
     if (s.tolerance && (bad(*s.tolerance) || *s.tolerance <= 0))
         return "tolerance must be finite and > 0, got " + num(*s.tolerance);
+    if (s.tolerance && !tolerance_range_error(*s.tolerance).empty())
+        return tolerance_range_error(*s.tolerance);
     if (s.tolerance_m && (bad(*s.tolerance_m) || *s.tolerance_m <= 0))
         return "tolerance_m must be finite and > 0, got " + num(*s.tolerance_m);
     if (s.tolerance && s.tolerance_m) return "give tolerance or tolerance_m, not both";
@@ -232,7 +331,9 @@ std::string check_config(const Config& config)
     const TilingConfig& t = config.tiling;
     if (bad(t.size) || t.size < 0) return "tiling.size must be >= 0 (0 = balanced tiles), got " + num(t.size);
     if (t.vertex_budget < 16) return "tiling.vertex_budget must be >= 16, got " + std::to_string(t.vertex_budget);
-    if (bad(t.halo) || t.halo < 2) return "tiling.halo must be >= 2 (a factor of the tolerance), got " + num(t.halo);
+    // halo x t x 2^max_growth must stay far inside the double range (frames are built round it).
+    if (bad(t.halo) || t.halo < 2 || t.halo > k_max_halo)
+        return "tiling.halo must be in [2, 1048576] (a factor of the tolerance), got " + num(t.halo);
     if (t.max_growth < 0 || t.max_growth > 10) return "tiling.max_growth must be in [0, 10], got " + std::to_string(t.max_growth);
     return "";
 }

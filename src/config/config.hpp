@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 
 namespace trisnap {
 
@@ -25,6 +26,9 @@ struct RunConfig {
     /// Bytes the whole process may hold (0 = unset: in memory when the layer's estimate fits in
     /// half of the machine's memory, else out of core under that half). TOML: "2GiB" or bytes.
     std::uint64_t memory_limit = 0;
+    /// Write the output even when snapping drops more than 10 % of the features (or any, with a
+    /// tolerance in degrees above the warning threshold); false: stop before writing (exit 2).
+    bool allow_collapse = false;
 };
 
 /// [tiling]: how a layer is cut into tiles (see stitch/tiled_snap.hpp TilingOptions).
@@ -46,8 +50,12 @@ struct Config {
 Config default_config();
 
 /// Overlays the keys present in `path` on `config`. Throws config_error (file, line, key) for
-/// unknown keys, wrong types and unreadable or malformed files.
+/// unknown keys, wrong types, integers that do not fit their key, and for a path that is
+/// missing, unreadable, a directory or a device, larger than 1 MiB or malformed.
 void load_config_file(const std::string& path, Config& config);
+
+/// The same for TOML text already in memory; `path` only names it in errors.
+void load_config_text(std::string_view text, const std::string& path, Config& config);
 
 /// The resolved configuration as a TOML document (unset optionals are left out).
 std::string to_toml(const Config& config);

@@ -82,14 +82,4 @@ std::vector<LayerInfo> scan_layers(GDALDataset& dataset, OGRLayer* only)
     return infos;
 }
 
-RunEstimate estimate_run(std::int64_t vertices, std::int64_t features)
-{
-    // Calibrated on OSM Monaco (208k vertices: 288 MB, 4 s) and Liechtenstein (92k: 173 MB,
-    // 2 s) on one core: ~1.2 KB and ~20 us per vertex, ~1 KB of kept attributes per feature.
-    RunEstimate e;
-    e.memory_mb = (static_cast<double>(vertices) * 1200.0 + static_cast<double>(features) * 1024.0) / 1e6 + 40.0;
-    e.seconds = static_cast<double>(vertices) * 20e-6 + static_cast<double>(features) * 5e-6;
-    return e;
-}
-
 } // namespace trisnap

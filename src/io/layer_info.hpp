@@ -32,11 +32,4 @@ std::string describe_crs(const OGRSpatialReference* srs);
 /// driver needs interleaved reading). With `only`, describes that layer alone.
 std::vector<LayerInfo> scan_layers(GDALDataset& dataset, OGRLayer* only = nullptr);
 
-/// Rough resources for snapping `vertices` vertices in one triangulation (for the plan).
-struct RunEstimate {
-    double memory_mb = 0.0;
-    double seconds = 0.0;
-};
-RunEstimate estimate_run(std::int64_t vertices, std::int64_t features);
-
 } // namespace trisnap

@@ -230,8 +230,9 @@ void check_output_path(const WriteOptions& options, const std::string& input_pat
     if (fs::exists(input_path, ec) && fs::exists(target, ec) && fs::equivalent(input_path, target, ec)) {
         throw argument_error(options.path + ": output is the input; choose another OUT");
     }
-    if (fs::exists(target, ec) && !options.overwrite) {
-        throw argument_error(options.path + ": already exists; add --overwrite to replace it");
+    if (fs::exists(target, ec) && !options.overwrite && !options.update && !options.append) {
+        throw argument_error(options.path + ": already exists; add --overwrite to replace it (in a GPKG or SQLite file: "
+                             "its layer of that name), or --update/--append to write into it");
     }
     if (fs::is_directory(target, ec)) {
         throw argument_error(options.path + ": is a directory; give a file name for OUT");

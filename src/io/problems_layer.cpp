@@ -16,6 +16,8 @@ namespace trisnap {
 namespace fs = std::filesystem;
 namespace {
 
+constexpr const char* k_layer = "problems";
+
 /// "GPKG" or "GeoJSON" from the extension, "" for anything else.
 std::string driver_for(const std::string& path)
 {
@@ -54,7 +56,26 @@ void write_problem(OGRLayer& layer, const Problem& problem, const std::string& p
     }
 }
 
-/// The layer at `temp`; GPKG keeps its own FID column out of the way of our "fid" field.
+/// Layer "problems" in `dataset`; GPKG keeps its own FID column out of the way of our "fid" field.
+void fill_dataset(GDALDataset& dataset, const std::string& path, const std::vector<Problem>& problems,
+                  OGRSpatialReference* srs)
+{
+    ScopedErrorCapture capture;
+    CPLStringList options;
+    if (std::string(dataset.GetDriver()->GetDescription()) == "GPKG") {
+        options.AddString("FID=problem_id");
+    }
+    OGRLayer* layer = dataset.CreateLayer(k_layer, srs, wkbPoint, options.List());
+    if (!layer) {
+        throw io_error(path, k_layer, capture.last_error("cannot create the layer"));
+    }
+    create_fields(*layer, path);
+    for (const Problem& problem : problems) {
+        write_problem(*layer, problem, path);
+    }
+}
+
+/// A new file at `temp`, in one transaction.
 void write_dataset(const std::string& temp, const std::string& path, const std::vector<Problem>& problems,
                    OGRSpatialReference* srs)
 {
@@ -64,34 +85,71 @@ void write_dataset(const std::string& temp, const std::string& path, const std::
     if (!dataset) {
         throw io_error(path, "", capture.last_error("cannot create the dataset"));
     }
-    CPLStringList options;
-    if (std::string(driver->GetDescription()) == "GPKG") {
-        options.AddString("FID=problem_id");
-    }
-    OGRLayer* layer = dataset->CreateLayer("problems", srs, wkbPoint, options.List());
-    if (!layer) {
-        throw io_error(path, "problems", capture.last_error("cannot create the layer"));
-    }
-    create_fields(*layer, path);
     dataset->StartTransaction();
-    for (const Problem& problem : problems) {
-        write_problem(*layer, problem, path);
-    }
+    fill_dataset(*dataset, path, problems, srs);
     dataset->CommitTransaction();
     dataset.reset();
     if (!capture.errors().empty()) {
-        throw io_error(path, "problems", capture.last_error());
+        throw io_error(path, k_layer, capture.last_error());
     }
+}
+
+/// An existing GeoPackage: its layer "problems" replaced (or added) in one transaction, its
+/// other layers kept; any failure rolls the transaction back.
+void update_dataset(const std::string& path, const std::vector<Problem>& problems, OGRSpatialReference* srs)
+{
+    const char* const drivers[] = {"GPKG", nullptr};
+    ScopedErrorCapture capture;
+    GDALDatasetUniquePtr dataset(
+        GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_UPDATE, drivers, nullptr, nullptr));
+    if (!dataset || dataset->StartTransaction() != OGRERR_NONE) {
+        throw io_error(path, "", capture.last_error("cannot open it for update"));
+    }
+    try {
+        for (int i = 0; i < dataset->GetLayerCount(); ++i) {
+            if (std::string(dataset->GetLayer(i)->GetName()) == k_layer && dataset->DeleteLayer(i) != OGRERR_NONE) {
+                throw io_error(path, k_layer, capture.last_error("cannot delete the layer to replace it"));
+            }
+        }
+        fill_dataset(*dataset, path, problems, srs);
+        if (dataset->CommitTransaction() != OGRERR_NONE) {
+            throw io_error(path, k_layer, capture.last_error("cannot commit"));
+        }
+    } catch (...) {
+        dataset->RollbackTransaction();
+        throw;
+    }
+}
+
+bool updates_gpkg(const std::string& path, bool update)
+{
+    std::error_code ec;
+    return update && driver_for(path) == "GPKG" && fs::exists(path, ec);
+}
+
+/// True when the GeoPackage at `path` has a layer "problems".
+bool has_problems_layer(const std::string& path)
+{
+    ScopedErrorCapture quiet;
+    GDALDatasetUniquePtr dataset(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR));
+    return dataset && dataset->GetLayerByName(k_layer) != nullptr;
 }
 
 } // namespace
 
-void check_problems_layer_path(const std::string& path, bool overwrite)
+void check_problems_layer_path(const std::string& path, bool overwrite, bool update)
 {
     if (driver_for(path).empty()) {
         throw argument_error("--problems-layer " + path + ": give a .gpkg or .geojson file name");
     }
     std::error_code ec;
+    if (updates_gpkg(path, update || overwrite)) {
+        if (!overwrite && has_problems_layer(path)) {
+            throw argument_error("--problems-layer " + path +
+                                 ": has a layer 'problems' already; add --overwrite to replace it");
+        }
+        return;
+    }
     if (fs::exists(path, ec) && !overwrite) {
         throw argument_error("--problems-layer " + path + ": already exists; add --overwrite to replace it");
     }
@@ -103,8 +161,12 @@ void check_problems_layer_path(const std::string& path, bool overwrite)
 }
 
 void write_problems_layer(const std::string& path, const std::vector<Problem>& problems,
-                          OGRSpatialReference* srs)
+                          OGRSpatialReference* srs, bool update)
 {
+    if (updates_gpkg(path, update)) {
+        update_dataset(path, problems, srs);
+        return;
+    }
     const fs::path target(path);
     std::string name = ".";
     name.append(target.filename().string()).append(".trisnap-tmp-").append(std::to_string(getpid()));

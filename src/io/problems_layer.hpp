@@ -11,13 +11,16 @@
 namespace trisnap {
 
 /// Refuses a FILE whose extension is neither .gpkg nor .geojson/.json, one that exists without
-/// `overwrite`, and one in a directory that does not exist. Throws argument_error.
-void check_problems_layer_path(const std::string& path, bool overwrite);
+/// `overwrite` (or, for an existing GeoPackage, `update`: then only a layer "problems" in it
+/// without `overwrite`), and one in a directory that does not exist. Throws argument_error.
+void check_problems_layer_path(const std::string& path, bool overwrite, bool update);
 
 /// Writes layer "problems" with fields fid (the input FID), code, name and message, in `srs`
 /// (the input's; may be null), GeoPackage or GeoJSON by extension. Written beside `path` under
-/// a hidden name and renamed into place, so a failure leaves nothing at `path`. Throws io_error.
+/// a hidden name and renamed into place, so a failure leaves nothing at `path`. With `update`
+/// (--overwrite, --update, --append) an existing GeoPackage keeps its other layers: "problems"
+/// is replaced or added in one transaction, rolled back on failure. Throws io_error.
 void write_problems_layer(const std::string& path, const std::vector<Problem>& problems,
-                          OGRSpatialReference* srs);
+                          OGRSpatialReference* srs, bool update = false);
 
 } // namespace trisnap

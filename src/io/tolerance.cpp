@@ -81,6 +81,51 @@ double tolerance_from_metres(double metres, OGRLayer& layer, std::string& note, 
     return degrees;
 }
 
+bool degrees_above_warning(double tolerance, bool from_metres, const OGRSpatialReference* srs)
+{
+    return !from_metres && srs != nullptr && srs->IsGeographic() && tolerance >= k_degree_warning;
+}
+
+std::string degree_warning(double tolerance)
+{
+    return fmt::format("--tolerance {} is in degrees on this geographic CRS (>= {:.3g} m); for metres use --tolerance-m",
+                       tolerance, tolerance * metres_per_degree(0) * 0.99);
+}
+
+namespace {
+
+/// The tolerance in metres on the layer's CRS ("1.1e+03 m"), or in layer units without a CRS.
+std::string tolerance_length(double tolerance, OGRLayer& layer)
+{
+    const OGRSpatialReference* srs = layer.GetSpatialRef();
+    if (srs == nullptr) {
+        return fmt::format("{} layer units (the layer has no CRS)", tolerance);
+    }
+    if (!srs->IsGeographic()) {
+        return fmt::format("{:.3g} m", tolerance * srs->GetLinearUnits());
+    }
+    OGREnvelope e;
+    if (layer.GetExtent(&e, TRUE) != OGRERR_NONE) {
+        return fmt::format("{} degrees", tolerance);
+    }
+    const double metres = tolerance * metres_per_degree(mean_latitude(layer, *srs));
+    return fmt::format("{:.3g} degrees, about {:.3g} m here", tolerance, metres);
+}
+
+} // namespace
+
+std::string collapse_advice(double tolerance, bool from_metres, OGRLayer& layer)
+{
+    const std::string length = tolerance_length(tolerance, layer);
+    if (!degrees_above_warning(tolerance, from_metres, layer.GetSpatialRef())) {
+        return fmt::format("the tolerance is {}: give a smaller one", length);
+    }
+    std::string note;
+    tolerance_from_metres(tolerance, layer, note);
+    return fmt::format("--tolerance is in degrees on this geographic CRS ({}); you probably meant --tolerance-m {} ({})",
+                       length, tolerance, note);
+}
+
 namespace {
 
 void check_positive(const char* option, double value)

@@ -13,6 +13,25 @@ namespace trisnap {
 /// (never below a thousandth of the equator's, so a pole gives a finite value).
 double metres_per_degree(double lat);
 
+/// A tolerance in degrees at or above this (over 110 m at the equator) is most likely metres
+/// typed as --tolerance on a geographic layer: warned about, and any feature it collapses stops
+/// the run (app/collapse_guard.hpp).
+inline constexpr double k_degree_warning = 0.001;
+
+/// True when `tolerance` is in degrees (the layer's CRS is geographic and the tolerance was not
+/// converted from metres) and at least k_degree_warning.
+bool degrees_above_warning(double tolerance, bool from_metres, const OGRSpatialReference* srs);
+
+/// The warning for such a tolerance: "--tolerance 0.01 is in degrees on this geographic CRS
+/// (>= 1.1e+03 m); for metres use --tolerance-m".
+std::string degree_warning(double tolerance);
+
+/// What to try instead of a tolerance that collapses too much, as a clause for an error line:
+/// for degrees above the warning threshold, the same number in metres ("did you mean
+/// --tolerance-m 0.01 (= 1.2e-07 degrees at mean latitude 42.5)?"); else the tolerance in
+/// metres where the CRS says, and advice to give a smaller one.
+std::string collapse_advice(double tolerance, bool from_metres, OGRLayer& layer);
+
 /// The latitude at the middle of the layer's extent, honouring the data axis order. Throws
 /// argument_error when the layer has no extent.
 double mean_latitude(OGRLayer& layer, const OGRSpatialReference& srs);

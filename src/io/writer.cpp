@@ -5,6 +5,7 @@
 #include "io/gdal_errors.hpp"
 #include "io/io_error.hpp"
 #include "io/output_driver.hpp"
+#include "io/update_target.hpp"
 
 #include <cpl_conv.h>
 #include <cpl_string.h>
@@ -127,13 +128,18 @@ LayerWriter::LayerWriter(const WriteOptions& options, OGRLayer& source)
         CPLSetConfigOption("OGR_WKT_PRECISION", "17");
     }
     const ScratchDirectory scratch(m_temp.path());
-    create_dataset(driver);
-    create_layer(source, layer_options(driver, source));
-    create_fields(*source.GetLayerDefn());
+    m_in_place = updates_in_place(options, driver);
+    if (m_in_place) {
+        open_in_place(driver, source);
+    } else {
+        create_dataset(driver);
+        create_layer(source, layer_options(driver, source));
+        create_fields(*source.GetLayerDefn());
+    }
     m_fidelity = std::make_unique<FieldFidelity>(*source.GetLayerDefn(), *m_layer->GetLayerDefn(), m_field_map,
                                                  m_driver_name);
     m_problems = m_fidelity->renamed_fields();
-    if (m_dataset->TestCapability(ODsCTransactions)) {
+    if (!m_in_place && m_dataset->TestCapability(ODsCTransactions)) {
         m_in_transaction = m_dataset->StartTransaction() == OGRERR_NONE;
     }
 }
@@ -144,6 +150,9 @@ LayerWriter::~LayerWriter()
         return;
     }
     ScopedErrorCapture quiet; // closing a half-written dataset may complain; it is deleted anyway
+    if (m_in_place && m_in_transaction) {
+        m_dataset->RollbackTransaction(); // an existing OUT stays as it was
+    }
     m_dataset.reset();
     // m_temp, destroyed after this body, removes the directory with everything in it.
 }
@@ -159,6 +168,44 @@ void LayerWriter::create_dataset(GDALDriver& driver)
     if (!m_dataset) {
         throw io_error(m_options.path, "", capture.last_error("cannot create the dataset"));
     }
+}
+
+// An existing OUT that holds layers: everything from here to commit() is one transaction.
+void LayerWriter::open_in_place(GDALDriver& driver, OGRLayer& source)
+{
+    m_dataset = open_for_update(m_options, driver);
+    ScopedErrorCapture capture;
+    if (m_dataset->StartTransaction() != OGRERR_NONE) {
+        throw io_error(m_options.path, "", capture.last_error("cannot start a transaction to update it"));
+    }
+    m_in_transaction = true;
+    const std::string name = output_layer_name(m_options, source);
+    OGRLayer* existing = m_dataset->GetLayerByName(name.c_str());
+    if (existing != nullptr && m_options.append) {
+        // The layer's own FIDs go on; the input FID goes into its orig_fid field when it has one.
+        m_layer = existing;
+        m_keeps_fids = false;
+        m_field_map = append_field_map(*source.GetLayerDefn(), *m_layer->GetLayerDefn(), m_options.fields,
+                                       m_options.path + " (layer '" + name + "')");
+        m_orig_fid_field = m_layer->GetLayerDefn()->GetFieldIndex("orig_fid");
+        return;
+    }
+    if (existing != nullptr) {
+        delete_layer(name); // --overwrite (check_update_target refused it otherwise)
+    }
+    create_layer(source, layer_options(driver, source));
+    create_fields(*source.GetLayerDefn());
+}
+
+void LayerWriter::delete_layer(const std::string& name)
+{
+    ScopedErrorCapture capture;
+    for (int i = 0; i < m_dataset->GetLayerCount(); ++i) {
+        if (name == m_dataset->GetLayer(i)->GetName() && m_dataset->DeleteLayer(i) == OGRERR_NONE) {
+            return;
+        }
+    }
+    throw io_error(m_options.path, name, capture.last_error("cannot delete the layer to replace it"));
 }
 
 std::vector<std::string> LayerWriter::layer_options(GDALDriver& driver, OGRLayer& source) const
@@ -234,18 +281,28 @@ void LayerWriter::create_fields(const OGRFeatureDefn& source)
     m_orig_fid_field = m_layer->GetLayerDefn()->GetFieldCount() - 1;
 }
 
+std::filesystem::path LayerWriter::failure_scope() const
+{
+    return m_in_place ? parent_of(fs::absolute(m_target)) : m_temp.path();
+}
+
+const char* LayerWriter::outcome() const
+{
+    return m_in_place ? "; OUT was left as it was (its transaction rolled back)" : "; nothing was left at OUT";
+}
+
 void LayerWriter::throw_if_write_failed() const
 {
-    const std::string failure = take_write_failure(m_temp.path());
+    const std::string failure = take_write_failure(failure_scope());
     if (!failure.empty()) {
-        throw io_error(m_options.path, "", "cannot write (" + failure + "); nothing was left at OUT");
+        throw io_error(m_options.path, "", "cannot write (" + failure + ")" + outcome());
     }
 }
 
 void LayerWriter::fail_finishing(const std::string& gdal_message) const
 {
     throw_if_write_failed(); // the cause (a full disk) says more than the driver's complaint about it
-    throw io_error(m_options.path, "", gdal_message + "; nothing was left at OUT");
+    throw io_error(m_options.path, "", gdal_message + outcome());
 }
 
 std::string LayerWriter::write(const OGRFeature& source, std::int64_t fid, OGRGeometry* geometry)
@@ -262,6 +319,12 @@ std::string LayerWriter::write(const OGRFeature& source, std::int64_t fid, OGRGe
     out->SetGeometryDirectly(geometry);
     const bool refused = m_layer->CreateFeature(out.get()) != OGRERR_NONE;
     throw_if_write_failed();
+    if (refused && m_in_place) {
+        // Inside the transaction a refusal cannot be told from a failed write (SQLite may even
+        // have ended the transaction): stop and roll back rather than commit half a layer.
+        throw io_error(m_options.path, m_layer->GetName(), "feature " + std::to_string(fid) + ": " +
+                       capture.last_error("the driver refused the feature") + outcome());
+    }
     if (refused) {
         return capture.last_error("the driver refused the feature");
     }
@@ -289,7 +352,7 @@ void LayerWriter::finish()
         fail_finishing(capture.last_error(CPLGetLastErrorMsg()));
     }
     throw_if_write_failed();
-    if (m_streamed) {
+    if (m_streamed || m_in_place) {
         return;
     }
     if (result_files(m_temp.path()).empty()) {
@@ -315,8 +378,8 @@ void LayerWriter::stage_files(CommitGroup& group)
 void LayerWriter::commit()
 {
     finish();
-    if (m_streamed) {
-        m_committed = true;
+    if (m_streamed || m_in_place) {
+        m_committed = true; // OUT is in place: streamed, or its transaction committed
         return;
     }
     if (m_options.commit_group != nullptr) {

@@ -1,11 +1,12 @@
 #pragma once
 // Writes the snapped layer like ogr2ogr would: same layer name (unless renamed), fields, field
 // types and values, CRS and FIDs (or an `orig_fid` field where the format renumbers features).
-// Everything goes to a temporary directory beside the target (".OUT.trisnap-tmp-PID", created
-// before anything else and removed on any failure, also when the constructor throws), every
-// write and the final close are checked (checked_files.hpp), the files are flushed to disk, and
-// only then renamed into place by commit(): a failed or interrupted run, or a full disk, never
-// leaves anything at the target path.
+// A new OUT (or a single-layer one replaced with --overwrite) goes to a temporary directory
+// beside the target (".OUT.trisnap-tmp-PID", created before anything else and removed on any
+// failure, also when the constructor throws), every write and the final close are checked
+// (checked_files.hpp), the files are flushed to disk, and only then renamed into place by
+// commit(): a failed or interrupted run, or a full disk, never leaves anything at the target path. An existing multi-layer OUT with --overwrite, --update or
+// --append is written in place, in one transaction (io/update_target.hpp).
 #include "core/problems.hpp"
 #include "io/commit_group.hpp"
 #include "io/field_fidelity.hpp"
@@ -31,6 +32,8 @@ struct WriteOptions {
     std::vector<std::string> dataset_options; ///< --dsco K=V, passed to Create
     std::vector<std::string> fields;        ///< --select: the source fields to write; empty = all
     bool overwrite = false;
+    bool update = false; ///< --update: write the layer into an existing OUT beside its other layers
+    bool append = false; ///< --append: add the features to OUT's layer of that name
     bool renumber = false; ///< input FIDs unusable (duplicate or missing): always add orig_fid
     ProtectedFiles protected_files; ///< never replaced (the input's files); checked again at the rename
     /// When set, commit() stages OUT's files in this group instead of renaming them, and the
@@ -43,7 +46,7 @@ struct WriteOptions {
 /// (Memory, databases, web services: drivers without GDAL's virtual I/O).
 GDALDriver& output_driver(const std::string& path, const std::string& format);
 
-/// Refuses an existing target without overwrite and a missing parent directory.
+/// Refuses an existing target without --overwrite, --update or --append, and a missing parent directory.
 void check_output_path(const WriteOptions& options, const std::string& input_path);
 
 /// Refuses an OUT for which `driver` would write any of `options.protected_files` (OUT itself
@@ -85,6 +88,10 @@ public:
 
 private:
     void create_dataset(GDALDriver& driver);
+    void open_in_place(GDALDriver& driver, OGRLayer& source);
+    void delete_layer(const std::string& name);
+    std::filesystem::path failure_scope() const;
+    const char* outcome() const;
     void create_layer(OGRLayer& source, const std::vector<std::string>& options);
     void create_fields(const OGRFeatureDefn& source);
     std::vector<std::string> layer_options(GDALDriver& driver, OGRLayer& source) const;
@@ -97,6 +104,7 @@ private:
     std::filesystem::path m_target;
     TempDirectory m_temp;           ///< first: exists before, and is removed after, everything below
     bool m_streamed = false;        ///< OUT is stdout: written as it goes, no temporary or rename
+    bool m_in_place = false;        ///< OUT exists and is updated in its transaction, no temporary or rename
     GDALDatasetUniquePtr m_dataset; ///< closed before m_temp is removed
     OGRLayer* m_layer = nullptr;
     std::string m_driver_name;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <map>
 #include <set>
 
 namespace trisnap::test {
@@ -51,10 +52,30 @@ TEST_F(CliErrors, JsonProgressLinesOnStderr)
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(r.out, "");
     std::set<std::string> finished;
+    std::map<std::string, std::int64_t> last;
     for (const std::string& line : r.err_lines()) {
         const nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
         ASSERT_FALSE(j.is_discarded()) << "not JSON: " << line;
-        if (j["finished"].get<bool>()) finished.insert(j["phase"].get<std::string>());
+        const std::string phase = j["phase"].get<std::string>();
+        const std::int64_t done = j["done"].get<std::int64_t>();
+        EXPECT_GE(done, last[phase]) << "counts go backwards: " << line;
+        last[phase] = done;
+        ASSERT_TRUE(j.contains("unit") && j.contains("eta_s")) << line;
+        if (phase == "snap") {
+            // Input vertices, with a total known from the start (not tiles called features).
+            EXPECT_EQ(j["unit"], "vertices") << line;
+            EXPECT_GT(j["total"].get<std::int64_t>(), 0) << line;
+        }
+        if (phase == "plan" || phase == "write") {
+            EXPECT_EQ(j["unit"], "features") << line;
+            EXPECT_EQ(j["total"].get<std::int64_t>(), 6) << line;
+        }
+        if (j["finished"].get<bool>()) {
+            finished.insert(phase);
+            if (j["total"].get<std::int64_t>() >= 0) {
+                EXPECT_EQ(done, j["total"].get<std::int64_t>()) << line;
+            }
+        }
     }
     EXPECT_EQ(finished, (std::set<std::string>{"plan", "spool", "snap", "stitch", "write"}));
 }
@@ -226,9 +247,11 @@ TEST_F(CliErrors, GeographicToleranceInMetres)
     RunOutput r = run_trisnap(dir, {"validate", in, dir.path("o.gpkg"), "--tolerance-m", "0.01"});
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("at mean latitude 60.0005"), std::string::npos) << r.out;
+    // 0.01 degrees is over a kilometre: the warning, then the collapse guard refuses the run it predicts.
     r = run_trisnap(dir, {"validate", in, dir.path("o.gpkg"), "--tolerance", "0.01"});
-    EXPECT_EQ(r.code, 0);
-    EXPECT_NE(r.err.find("--tolerance-m"), std::string::npos) << "expected a warning, got: " << r.err;
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("trisnap: warning: --tolerance 0.01 is in degrees"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("you probably meant --tolerance-m 0.01"), std::string::npos) << r.err;
 }
 
 TEST_F(CliErrors, FailedRunLeavesNothingBehind)

@@ -201,10 +201,7 @@ TEST(CliMemory, RunningOutOfMemoryGivesTheHint)
     const RunOutput r = run_trisnap_limited(dir, {"snap", in, dir.path("out.gpkg"), "--layer", "ne_10m_land",
                                                   "--tolerance", "1e-6", "--threads", "1"},
                                             Limits{0, 300LL << 20});
-    if (r.err.find("snapping failed: std::bad_alloc") != std::string::npos) {
-        GTEST_SKIP() << "the pipeline still rewraps the engine's std::bad_alloc into a runtime_error (run_engine)";
-    }
-    expect_error(r, 1, "out of memory; try a smaller --bbox");
+    expect_error(r, 1, "out of memory; give --memory-limit");
     EXPECT_FALSE(exists(dir.path("out.gpkg")));
     EXPECT_EQ(leftovers(dir.path("")), std::vector<std::string>{});
 }

@@ -273,4 +273,35 @@ TEST_F(CliSafety, CsvKeepsTheGeometriesAsWktToTheLastBit)
 }
 
 } // namespace
+TEST_F(CliSafety, SignalsStopEveryPhaseWithOneLineAndLeaveNothing)
+{
+    // SIGINT while snapping ended the run with 130 and no message; SIGTERM while writing said
+    // "while writing" in every phase. Now: the phase it stopped in, exit 130 for SIGINT and 1 for
+    // SIGTERM, nothing at OUT, nothing temporary.
+    const std::string in = data_dir() + "/osm_buildings_mvt_boston_jakarta/jakarta_buildings_z13.gpkg";
+    if (!exists(in)) {
+        GTEST_SKIP() << "data set absent: " << in;
+    }
+    struct Case {
+        const char* phase;
+        int signal;
+        int code;
+        const char* message;
+    };
+    for (const Case& c : {Case{"snap", SIGINT, 130, "interrupted by SIGINT while snapping; nothing was left at OUT"},
+                          Case{"write", SIGTERM, 1, "interrupted by SIGTERM while writing; nothing was left at OUT"}}) {
+        SCOPED_TRACE(c.phase);
+        const std::string out = dir.path("out.gpkg");
+        const std::string start = std::string("\"phase\":\"") + c.phase + "\"";
+        // Many small tiles: the snap phase checks for a signal before each.
+        const RunOutput r = run_trisnap_killed_when(
+            dir, {"snap", in, out, "--tolerance", "0.05", "--tile-vertex-budget", "3000", "--json-progress"},
+            [&](const std::string& line) { return line.find(start) != std::string::npos; }, c.signal);
+        EXPECT_EQ(r.code, c.code) << r.err;
+        EXPECT_NE(r.err.find("trisnap: error: " + std::string(c.message)), std::string::npos) << r.err;
+        EXPECT_FALSE(exists(out));
+        expect_no_leftovers();
+    }
+}
+
 } // namespace trisnap::test

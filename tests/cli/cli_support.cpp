@@ -188,7 +188,7 @@ RunOutput run_trisnap(const TempDir& dir, const std::vector<std::string>& args)
 }
 
 RunOutput run_trisnap_killed_when(const TempDir& dir, const std::vector<std::string>& args,
-                                  const std::function<bool(const std::string&)>& stop)
+                                  const std::function<bool(const std::string&)>& stop, int signal)
 {
     int pipe_fds[2];
     if (pipe(pipe_fds) != 0) {
@@ -220,7 +220,7 @@ RunOutput run_trisnap_killed_when(const TempDir& dir, const std::vector<std::str
             const std::string line = pending.substr(0, eol);
             pending.erase(0, eol + 1);
             if (stop(line)) {
-                kill(pid, SIGKILL);
+                kill(pid, signal);
                 killed = true;
             }
         }

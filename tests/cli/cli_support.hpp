@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <csignal>
 #include <functional>
 #include <map>
 #include <string>
@@ -39,10 +40,10 @@ private:
 /// environment variable TRISNAP_TEST_EXE replaces the binary (to see a test fail on an older one).
 RunOutput run_trisnap(const TempDir& dir, const std::vector<std::string>& args);
 
-/// Runs the trisnap binary with `args` and kills it (SIGKILL) at the first line it writes on
-/// stderr for which `stop(line)` holds. `code` is 137 when it was killed.
+/// Runs the trisnap binary with `args` and sends it `signal` (SIGKILL: `code` is 137) at the
+/// first line it writes on stderr for which `stop(line)` holds.
 RunOutput run_trisnap_killed_when(const TempDir& dir, const std::vector<std::string>& args,
-                                  const std::function<bool(const std::string&)>& stop);
+                                  const std::function<bool(const std::string&)>& stop, int signal = SIGKILL);
 /// Resource limits for one run (0 = unlimited).
 struct Limits {
     long long file_size = 0;     ///< RLIMIT_FSIZE in bytes: "disk full" (SIGXFSZ ignored, writes fail)

@@ -21,7 +21,8 @@ done
 commands=$("$exe" --help | sed -n '/^Subcommands:/,/^$/p' | awk 'NR > 1 && NF { print $1 }')
 [ -n "$commands" ] || fail "no subcommands in --help"
 for c in $commands; do
-  grep -q "^\.SS \"trisnap $c" "$man_page" || fail "man page has no section for '$c'"
+  escaped=$(printf '%s' "$c" | sed 's/-/\\\\-/g') # roff writes snap-tiles as snap\-tiles
+  grep -q "^\.SS \"trisnap $escaped" "$man_page" || fail "man page has no section for '$c'"
 done
 grep -q '^\.B \\-\\-tolerance FLOAT' "$man_page" || fail "man page lacks snap's --tolerance"
 if command -v groff >/dev/null; then
@@ -33,7 +34,7 @@ fi
 complete_words() {
   bash -c 'source "$1"; shift; COMP_WORDS=("$@"); COMP_CWORD=$(($# - 1)); _trisnap; echo "${COMPREPLY[*]}"' _ "$completion" "$@"
 }
-[ "$(complete_words trisnap sn)" = "snap" ] || fail "'trisnap sn<TAB>' gives '$(complete_words trisnap sn)'"
+[ "$(complete_words trisnap sn)" = "snap snap-tiles" ] || fail "'trisnap sn<TAB>' gives '$(complete_words trisnap sn)'"
 [ "$(complete_words trisnap snap in.gpkg --toler)" = "--tolerance --tolerance-m" ] ||
   fail "'trisnap snap --toler<TAB>' gives '$(complete_words trisnap snap in.gpkg --toler)'"
 [ "$(complete_words trisnap assess --fail)" = "--fail-on-defects" ] || fail "assess options not completed"

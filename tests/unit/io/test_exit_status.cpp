@@ -37,7 +37,7 @@ TEST(ExitStatus, OutOfMemoryGetsTheHintAlsoWhenNested)
 {
     const ExitStatus plain = status_of([] { throw std::bad_alloc(); });
     EXPECT_EQ(plain.code, 1);
-    EXPECT_EQ(plain.message.rfind("out of memory; try a smaller --bbox", 0), 0u) << plain.message;
+    EXPECT_EQ(plain.message.rfind("out of memory; give --memory-limit", 0), 0u) << plain.message;
     const ExitStatus nested = status_of([] {
         try {
             try {

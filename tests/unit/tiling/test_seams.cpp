@@ -32,7 +32,7 @@ void expect_like_untiled(const std::vector<Feature>& input, const stitch::Tiling
 {
     const SnapOptions o = options_at(tol);
     const SnapResult untiled = snap(input, o);
-    const TiledRun run = tiled_and_check(input, o, tiling);
+    const TiledRun run = tiled_and_check(input, o, tiling, 0); // nothing here collapses
     EXPECT_TRUE(contract_holds(run.report, tol)) << run.report.summary();
     EXPECT_EQ(run.report.n_overlaps_new, 0u);
     const auto diff = differing(untiled, run.tiled.result);
@@ -132,6 +132,9 @@ TEST(Property, RandomTileSizesAndThreadsKeepTheContract)
 {
     std::mt19937_64 rng(2026);
     std::size_t features = 0, differ = 0;
+    // Features the engine may flag per round (the near-degenerate layers lose thin parts), as
+    // measured when the bound came in.
+    const std::size_t flagged[6] = {0, 45, 0, 52, 0, 63};
     for (int round = 0; round < 6; ++round) {
         const std::uint64_t seed = 100 + static_cast<std::uint64_t>(round);
         std::vector<Feature> in = round % 2 ? near_degenerate_polygons(250, 50.0, t, seed)
@@ -140,7 +143,7 @@ TEST(Property, RandomTileSizesAndThreadsKeepTheContract)
         const int threads = static_cast<int>(uniform_int(rng, 1, 4));
         const SnapOptions o = options_at(t);
         const SnapResult untiled = snap(in, o);
-        const TiledRun run = tiled_and_check(in, o, tiles_of(size, threads));
+        const TiledRun run = tiled_and_check(in, o, tiles_of(size, threads), flagged[round]);
         EXPECT_TRUE(contract_holds(run.report, t)) << "round " << round << " size " << size << ": " << run.report.summary();
         features += in.size();
         differ += differing(untiled, run.tiled.result).size();

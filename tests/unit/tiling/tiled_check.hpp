@@ -14,13 +14,16 @@ struct TiledRun {
     ContractReport report;
 };
 
+/// Snaps tiled and checks the stitched layer, with at most `max_flagged` features exempt from
+/// the drift and shared-boundary checks.
 inline TiledRun tiled_and_check(const std::vector<Feature>& input, const SnapOptions& options,
-                                const stitch::TilingOptions& tiling)
+                                const stitch::TilingOptions& tiling, std::size_t max_flagged)
 {
     TiledRun run;
     run.tiled = stitch::snap_tiled(input, options, tiling);
-    run.report = check_contract(checked_features(input), checked_features(run.tiled.result), problem_ids(run.tiled.result),
-                                options.tolerance, options.edge_separation, drift_reported_ids(run.tiled.result));
+    run.report = check_contract(checked_features(input), checked_features(run.tiled.result),
+                                reported_problems(run.tiled.result), options.tolerance,
+                                engine_rules(options, max_flagged));
     return run;
 }
 

@@ -1,0 +1,91 @@
+#include "app/collapse_guard.hpp"
+
+#include "config/errors.hpp"
+#include "io/output_driver.hpp"
+#include "io/tolerance.hpp"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+
+namespace trisnap {
+namespace {
+
+/// More than a tenth of the layer, and more than one feature: the share the guard refuses
+/// whatever the tolerance. (In a layer of under ten features one is already over a tenth, and
+/// one collapsed sliver is what snapping is for.)
+bool most_of(std::size_t dropped, std::size_t features)
+{
+    return dropped > 1 && dropped * 10 > features;
+}
+
+bool from_metres(const Plan& plan)
+{
+    return plan.config.snap.tolerance_m.has_value();
+}
+
+} // namespace
+
+void check_collapse(const Plan& plan, std::size_t dropped, std::size_t features, bool predicted)
+{
+    if (plan.config.run.allow_collapse || dropped == 0) {
+        return;
+    }
+    const bool in_degrees = degrees_above_warning(plan.tolerance, from_metres(plan), plan.layer->GetSpatialRef());
+    if (!in_degrees && !most_of(dropped, features)) {
+        return;
+    }
+    const std::string what =
+        predicted ? fmt::format("at least {} of {} features are smaller than the tolerance: snapping would drop them",
+                                dropped, features)
+                  : fmt::format("snapping would drop {} of {} features (collapsed)", dropped, features);
+    const std::string outcome = predicted ? "Stopped; --allow-collapse (or --force) runs it anyway"
+                                          : "Nothing was written; --allow-collapse (or --force) writes it anyway";
+    throw argument_error(fmt::format("{} (layer '{}'): {}; {}. {}", plan.input_path, plan.layer->GetName(), what,
+                                     collapse_advice(plan.tolerance, from_metres(plan), *plan.layer), outcome));
+}
+
+std::size_t count_vanished(stitch::TiledRun& run)
+{
+    const std::unique_ptr<stitch::OutputMerger> merger = run.output();
+    stitch::OutputItem item;
+    std::size_t vanished = 0;
+    while (merger->next(item)) {
+        if (item.output.geometry.empty()) {
+            ++vanished;
+        }
+    }
+    return vanished;
+}
+
+void guard_collapse(const Plan& plan, RunPhases& phases)
+{
+    if (plan.config.run.allow_collapse || !is_stdout_path(plan.write.path)) {
+        return; // a file OUT is checked at the end of the write phase, before its commit
+    }
+    const std::size_t vanished = count_vanished(phases.tiles());
+    spdlog::debug("collapse guard: {} of {} features would be dropped", vanished, phases.result().input);
+    check_collapse(plan, vanished, phases.result().input);
+}
+
+std::size_t count_smaller_than(OGRLayer& layer, double tolerance)
+{
+    std::size_t small = 0;
+    layer.ResetReading();
+    for (OGRFeatureUniquePtr f(layer.GetNextFeature()); f; f.reset(layer.GetNextFeature())) {
+        const OGRGeometry* g = f->GetGeometryRef();
+        if (g == nullptr || g->IsEmpty()) {
+            continue;
+        }
+        OGREnvelope e;
+        g->getEnvelope(&e);
+        if (std::hypot(e.MaxX - e.MinX, e.MaxY - e.MinY) < tolerance) {
+            ++small;
+        }
+    }
+    layer.ResetReading();
+    return small;
+}
+
+} // namespace trisnap

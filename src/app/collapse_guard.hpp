@@ -1,0 +1,36 @@
+#pragma once
+// The collapse guard: a run that would drop much of a layer stops before it writes anything.
+// Snapping drops a feature that collapses (one narrower than the tolerance); a tolerance in the
+// wrong unit (metres typed as degrees on a geographic layer) drops nearly all of them, and such a
+// run used to write an empty layer and exit 0. Unless [run] allow_collapse (--allow-collapse,
+// --force) is set, a run stops with argument_error (exit 2) when it would drop more than 10 % of
+// its features, or any feature when the tolerance is in degrees at or above the warning threshold
+// (io/tolerance.hpp), and the message says which tolerance was probably meant.
+// `snap` and `stitch` check the count at the end of the write phase, before OUT is committed
+// (its temporary is discarded, an updated GeoPackage's transaction rolled back); a streamed OUT
+// (stdout) cannot be taken back, so there the stitched features are counted in one extra pass
+// before the write phase. `validate` checks what it can predict from the envelopes.
+#include "app/plan.hpp"
+#include "app/run_phases.hpp"
+
+#include <cstddef>
+
+namespace trisnap {
+
+/// Throws argument_error when `dropped` of `features` is more than the guard allows (and the
+/// plan does not allow collapse). `predicted`: the count is validate's lower bound, not a run's.
+void check_collapse(const Plan& plan, std::size_t dropped, std::size_t features, bool predicted = false);
+
+/// The stitched features that came out empty: one pass over the tiles' results (after stitch).
+std::size_t count_vanished(stitch::TiledRun& run);
+
+/// Between the stitch and the write phase, for a streamed OUT only: unless the plan allows
+/// collapse, counts the features the write would drop and checks them (check_collapse).
+void guard_collapse(const Plan& plan, RunPhases& phases);
+
+/// Features whose envelope's diagonal is shorter than `tolerance`: every two of their vertices
+/// are closer than the tolerance, so snapping collapses them (a lower bound of what a run
+/// drops). Reads the layer's geometries once, honouring its filters.
+std::size_t count_smaller_than(OGRLayer& layer, double tolerance);
+
+} // namespace trisnap

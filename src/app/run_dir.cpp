@@ -1,0 +1,169 @@
+#include "app/run_dir.hpp"
+
+#include "app/pipeline.hpp"
+#include "app/version.hpp"
+#include "config/errors.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <set>
+
+namespace trisnap {
+namespace fs = std::filesystem;
+namespace {
+
+const char* const k_record = "cluster.json";
+
+std::string shard_file(std::size_t index, std::size_t count)
+{
+    return fmt::format("shard-{}-of-{}", index, count);
+}
+
+// The path of the first input file whose size or time differs, for the message.
+std::string changed_file(const nlohmann::json& planned, const nlohmann::json& now)
+{
+    const nlohmann::json& a = planned["input"]["files"];
+    const nlohmann::json& b = now["input"]["files"];
+    for (std::size_t k = 0; k < a.size(); ++k) {
+        if (k >= b.size() || a[k] != b[k]) {
+            return a[k].value("path", std::string());
+        }
+    }
+    return b.size() > a.size() ? b[a.size()].value("path", std::string()) : std::string();
+}
+
+std::string text_of(const nlohmann::json& object, const char* key)
+{
+    return object.at(key).get<std::string>();
+}
+
+} // namespace
+
+std::string cluster_manifest(const Plan& plan, const SnapArgs& args)
+{
+    nlohmann::ordered_json m = nlohmann::ordered_json::parse(run_manifest(plan));
+    m["cluster"] = {
+        {"input", args.input},
+        {"layer", args.layer},
+        {"where", args.where},
+        {"bbox", args.bbox.value_or("")},
+        {"open_options", args.open_options},
+        {"settings", to_toml(plan.config)},
+        {"tolerance", fmt::format("{:a}", plan.tolerance)},
+        {"tolerance_note", plan.tolerance_note},
+    };
+    return m.dump(2);
+}
+
+void save_plan_record(tiling::WorkStore& store, const PlanRecord& r)
+{
+    const nlohmann::ordered_json j = {{"tiles", r.tiles}, {"vertices", r.vertices}, {"largest_tile_vertices", r.largest},
+                                      {"shards", r.shards}, {"suggested_shards", r.suggested}};
+    store.put(k_record, j.dump(2));
+}
+
+RunDir RunDir::open(const std::string& path)
+{
+    RunDir dir(WorkDir::attach(path));
+    dir.load_manifest();
+    dir.load_record();
+    return dir;
+}
+
+void RunDir::load_manifest()
+{
+    const std::string& where = path();
+    const nlohmann::json m = nlohmann::json::parse(m_work.manifest(), nullptr, false);
+    if (m.is_discarded() || !m.is_object() || m.value("tool", std::string()) != "trisnap") {
+        throw argument_error(where + ": manifest.json is not a trisnap manifest; make the run directory again with trisnap plan");
+    }
+    const std::string version = m.value("version", std::string("unknown"));
+    if (version != k_version) {
+        throw argument_error(fmt::format("{}: planned by trisnap {}, this is trisnap {}; plan it again with this version, "
+                                         "or run every step with trisnap {}", where, version, k_version, version));
+    }
+    if (!m.contains("cluster")) {
+        throw argument_error(where + ": the work directory of a `trisnap snap` run, not a run directory made by trisnap plan");
+    }
+    try {
+        const nlohmann::json& c = m.at("cluster");
+        m_args.input = text_of(c, "input");
+        m_args.layer = text_of(c, "layer");
+        m_args.where = text_of(c, "where");
+        if (std::string bbox = text_of(c, "bbox"); !bbox.empty()) {
+            m_args.bbox = bbox;
+        }
+        m_args.open_options = c.at("open_options").get<std::vector<std::string>>();
+        load_config_text(text_of(c, "settings"), where + "/manifest.json (cluster.settings)", m_config);
+        m_tolerance = std::strtod(text_of(c, "tolerance").c_str(), nullptr);
+    } catch (const nlohmann::json::exception& e) {
+        throw argument_error(where + ": damaged manifest.json (" + e.what() + "); make the run directory again with trisnap plan");
+    }
+    nlohmann::json run = m;
+    run.erase("cluster");
+    m_run_manifest = run.dump();
+}
+
+void RunDir::load_record()
+{
+    if (!m_work.store().exists(k_record)) {
+        throw argument_error(path() + ": the plan did not finish (no " + k_record +
+                             "); run the same trisnap plan again with --resume");
+    }
+    const nlohmann::json r = nlohmann::json::parse(m_work.store().get(k_record), nullptr, false);
+    if (r.is_discarded() || !r.is_object()) {
+        throw argument_error(path() + ": damaged " + k_record + "; make the run directory again with trisnap plan");
+    }
+    m_record.tiles = r.value("tiles", std::size_t{0});
+    m_record.vertices = r.value("vertices", std::uint64_t{0});
+    m_record.largest = r.value("largest_tile_vertices", std::uint64_t{0});
+    m_record.shards = r.value("shards", std::size_t{0});
+    m_record.suggested = r.value("suggested_shards", std::size_t{0});
+}
+
+SnapOptions RunDir::options() const { return engine_options(m_config, m_tolerance); }
+
+stitch::TilingOptions RunDir::tiling() const { return tiling_options(m_config); }
+
+std::vector<std::size_t> RunDir::shard_counts_seen() const
+{
+    std::set<std::size_t> counts;
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(path(), ec)) {
+        const std::string name = entry.path().filename().string();
+        std::size_t index = 0;
+        std::size_t count = 0;
+        int end = 0;
+        const int got = std::sscanf(name.c_str(), "shard-%zu-of-%zu%n", &index, &count, &end);
+        if (got == 2 && static_cast<std::size_t>(end) == name.size() && count > 0) {
+            counts.insert(count);
+        }
+    }
+    return {counts.begin(), counts.end()};
+}
+
+void RunDir::mark_finished(std::size_t index, std::size_t count, const std::string& summary)
+{
+    m_work.store().put(shard_file(index, count), summary);
+}
+
+void RunDir::check_input(const Plan& plan) const
+{
+    const nlohmann::json planned = nlohmann::json::parse(m_run_manifest);
+    const nlohmann::json now = nlohmann::json::parse(run_manifest(plan));
+    if (planned == now) {
+        return;
+    }
+    const std::string key = manifest_difference(planned, now);
+    if (key.rfind("input.files", 0) == 0) {
+        throw argument_error(fmt::format("{}: the input changed since trisnap plan ({} has another size or time); "
+                                         "plan again on the input as it is now", path(), changed_file(planned, now)));
+    }
+    throw argument_error(fmt::format("{}: planned for another input or settings ({} differs); plan again", path(), key));
+}
+
+} // namespace trisnap

@@ -99,3 +99,27 @@ rm -rf "$root/bench/results/compare_smoke"
 # Tiling (issue 5): untiled vs tiles on 1 and 2 threads on Andorra, one repetition.
 python3 "$root/bench/tiling" --quick --out "$root/bench/results/tiling_smoke.json" \
   || { echo "run_smoke: bench/tiling failed" >&2; exit 1; }
+
+# Out of core (issue 10): 20k replicated Jakarta polygons in memory, under --memory-limit and
+# --no-tiles; fails when the peak RSS exceeds the limit or the three outputs differ.
+jakarta="$root/../shared/data/osm_buildings_mvt_boston_jakarta/jakarta_buildings_z13.gpkg"
+if [[ -f "$jakarta" ]]; then
+  large="$(mktemp -d)"
+  "$root/bench/make-large-layer" 20k --out "$large" >/dev/null
+  python3 "$root/bench/out-of-core" --sizes 20k --limits 20k=192MiB --large-dir "$large" --no-make \
+    --json "$root/bench/results/out_of_core_smoke.json" \
+    || { rm -rf "$large"; echo "run_smoke: bench/out-of-core failed" >&2; exit 1; }
+  rm -rf "$large"
+else
+  echo "run_smoke: out-of-core skipped: data set absent: $jakarta"
+fi
+
+# Cluster (issue 12): plan, 4 shards as separate processes, stitch, against one snap on Andorra;
+# fails when a step fails or the bytes differ.
+andorra="$root/../shared/data/snapoly_andorra/andorra.gpkg"
+if [[ -f "$andorra" ]]; then
+  python3 "$root/bench/cluster" "$andorra" --tolerance 1e-6 --option=--tile-size=0.01 --shards 4 \
+    --json "$root/bench/results/cluster_smoke.json" || { echo "run_smoke: bench/cluster failed" >&2; exit 1; }
+else
+  echo "run_smoke: cluster skipped: data set absent: $andorra"
+fi

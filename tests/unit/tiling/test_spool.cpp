@@ -15,6 +15,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <filesystem>
@@ -131,8 +132,11 @@ protected:
         if (!GetParam()) {
             return tiling::make_memory_store();
         }
-        m_dir = fs::temp_directory_path() / ("trisnap-store-" + std::to_string(::getpid()) + "-" +
-                                             ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        // A parameterised test's name holds a '/': one directory level, so that remove_all(m_dir)
+        // leaves nothing behind in the temporary directory.
+        std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+        std::replace(name.begin(), name.end(), '/', '_');
+        m_dir = fs::temp_directory_path() / ("trisnap-store-" + std::to_string(::getpid()) + "-" + name);
         fs::remove_all(m_dir);
         return tiling::make_directory_store(m_dir.string());
     }

@@ -11,12 +11,14 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -154,8 +156,10 @@ double phase_seconds(const SnapStats& stats, Timed timed) {
 }
 
 /// Runs snap() on `features` at `t` for every iteration; `timed` picks what the reported time is.
-void run_snap(benchmark::State& state, const std::vector<Feature>& features, double t, Timed timed) {
-    const SnapOptions options = options_at(t);
+void run_snap(benchmark::State& state, const std::vector<Feature>& features, double t, Timed timed,
+              const SnapProgress& progress = {}) {
+    SnapOptions options = options_at(t);
+    options.progress = progress;
     SnapStats sum;
     std::size_t problems = 0;
     for (auto _ : state) {
@@ -171,6 +175,23 @@ void run_snap(benchmark::State& state, const std::vector<Feature>& features, dou
 
 void bm_snap_coverage(benchmark::State& state) {
     run_snap(state, coverage(state.range(0)), coverage_t, Timed::whole_run);
+}
+
+/// The same with a progress callback that does what the CLI's does per call (an atomic flag for
+/// Ctrl-C, a count for the bar): its cost is the difference to BM_Snap_Coverage (target: < 1 %).
+void bm_snap_coverage_progress(benchmark::State& state) {
+    static std::atomic<int> signal{0};
+    std::size_t calls = 0;
+    std::size_t last = 0;
+    run_snap(state, coverage(state.range(0)), coverage_t, Timed::whole_run, [&](std::size_t done, std::size_t) {
+        if (signal.load() != 0) {
+            throw std::runtime_error("interrupted");
+        }
+        last = done;
+        ++calls;
+    });
+    benchmark::DoNotOptimize(last);
+    state.counters["progress_calls_per_run"] = benchmark::Counter(static_cast<double>(calls) / static_cast<double>(state.iterations()));
 }
 
 void bm_triangulate_only(benchmark::State& state) {
@@ -230,6 +251,8 @@ void register_benchmarks() {
     using benchmark::RegisterBenchmark;
     const std::vector<std::int64_t> sizes = coverage_sizes();
     with_sizes(RegisterBenchmark("BM_Snap_Coverage", bm_snap_coverage)
+                   ->MeasureProcessCPUTime()->UseRealTime(), sizes);
+    with_sizes(RegisterBenchmark("BM_Snap_Coverage_Progress", bm_snap_coverage_progress)
                    ->MeasureProcessCPUTime()->UseRealTime(), sizes);
     // The two phases of whole calls on the same inputs, timed by the engine's own stopwatch
     // (snap.hpp has no triangulate-only entry point, and a private one would measure something

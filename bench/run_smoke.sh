@@ -60,7 +60,7 @@ mkdir -p "$root/bench/results"
 # file (for comparisons); the log gets the readable table.
 out="$root/bench/results/engine_smoke.json"
 env -u TRISNAP_BENCH_LARGE timeout 300 "$engine" \
-  --benchmark_filter='(Coverage|Only)/(1000|10000)/|NearDegenerate/(100|1000)/|Andorra' \
+  --benchmark_filter='(Coverage|Coverage_Progress|Only)/(1000|10000)/|NearDegenerate/(100|1000)/|Andorra' \
   --benchmark_min_time=0.01 \
   --benchmark_format=console --benchmark_out="$out" --benchmark_out_format=json \
   || { echo "run_smoke: bench_engine failed (exit $?)" >&2; exit 1; }

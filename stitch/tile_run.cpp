@@ -273,14 +273,16 @@ void TileRunner::commit(std::size_t group, const tiling::TileOutcome& oc, TileRe
     file->commit();
 }
 
-TileReport TileRunner::run(std::size_t group) const
+TileReport TileRunner::run(std::size_t group, const SnapProgress& progress) const
 {
     tiling::TileJob job;
     job.core = group_core(m_layout, m_groups, group);
     job.report_region = group_region(m_layout, m_groups, group);
     job.halo = m_groups.halo[group];
     job.max_growth = m_max_growth;
-    const tiling::TileOutcome oc = tiling::run_tile(job, m_options, [&](double h) { return gather(group, h); });
+    SnapOptions options = m_options;
+    options.progress = progress;
+    const tiling::TileOutcome oc = tiling::run_tile(job, options, [&](double h) { return gather(group, h); });
     TileReport report;
     report.id = m_groups.leaves[group].front();
     report.leaves = m_groups.leaves[group].size();

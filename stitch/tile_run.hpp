@@ -17,8 +17,9 @@ class TileRunner {
 public:
     TileRunner(tiling::WorkStore& store, const TileLayout& layout, const Groups& groups, const SpoolMeta& meta,
                const SnapOptions& options, int max_growth);
-    /// Snaps the group and commits its files; returns its report.
-    TileReport run(std::size_t group) const;
+    /// Snaps the group and commits its files; returns its report. `progress` (optional) is the
+    /// engine's callback for this run (SnapProgress: throw from it to stop the tile).
+    TileReport run(std::size_t group, const SnapProgress& progress = {}) const;
     /// Engine vertices the group's input holds (an estimate for a merged group).
     std::uint64_t vertices(std::size_t group) const;
 

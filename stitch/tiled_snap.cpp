@@ -8,6 +8,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
@@ -26,6 +27,54 @@ double seconds_since(std::chrono::steady_clock::time_point t0)
 }
 
 // Bytes reserved by the tiles in flight; a tile waits until its estimate fits in the pool.
+// The vertices done, for the bar, while tiles run: a finished tile counts whole, a running one by
+// the engine's own progress scaled to its vertex estimate. Calls to `progress` are serialised
+// and never go backwards; a worker that finds the lock taken skips its update.
+class LiveCount {
+public:
+    LiveCount(const TileProgress& progress, std::uint64_t total) : m_progress(progress), m_total(total) {}
+
+    /// A running tile of `vertices` is at done/of; `share` is what it added so far.
+    void running(std::uint64_t& share, std::uint64_t vertices, std::size_t done, std::size_t of)
+    {
+        const std::uint64_t now = of == 0 ? 0 : static_cast<std::uint64_t>(static_cast<double>(vertices) * static_cast<double>(done) / static_cast<double>(of));
+        if (!m_progress || now <= share) {
+            return;
+        }
+        m_running.fetch_add(now - share);
+        share = now;
+        const std::unique_lock lock(m_mutex, std::try_to_lock);
+        if (lock.owns_lock()) {
+            emit();
+        }
+    }
+
+    /// A tile of `vertices` finished; its running share is replaced by all of it.
+    void finished(std::uint64_t share, std::uint64_t vertices)
+    {
+        const std::lock_guard lock(m_mutex);
+        m_running.fetch_sub(share);
+        m_done += vertices;
+        if (m_progress) {
+            emit();
+        }
+    }
+
+private:
+    void emit()
+    {
+        m_last = std::max(m_last, std::min(m_total, m_done + m_running.load()));
+        m_progress(m_last, m_total);
+    }
+
+    const TileProgress& m_progress;
+    std::uint64_t m_total;
+    std::mutex m_mutex;
+    std::uint64_t m_done = 0;
+    std::atomic<std::uint64_t> m_running{0};
+    std::uint64_t m_last = 0;
+};
+
 class MemoryGate {
 public:
     explicit MemoryGate(std::uint64_t pool) : m_pool(pool) {}
@@ -143,7 +192,8 @@ void TiledRun::Impl::run_groups(std::vector<std::size_t> pending, const TileProg
     MemoryGate gate(schedule.memory_pool);
     const auto t0 = std::chrono::steady_clock::now();
     std::size_t next = 0;
-    std::uint64_t done = 0;
+    LiveCount live(progress, total);
+    std::vector<std::uint64_t> shares(order.size(), 0);
     const int n = threads();
     tbb::task_arena arena(n);
     arena.execute([&] {
@@ -169,16 +219,20 @@ void TiledRun::Impl::run_groups(std::vector<std::size_t> pending, const TileProg
                                                                    std::uint64_t bytes;
                                                                    ~Release() { gate.release(bytes); }
                                                                } release{gate, bytes};
-                                                               runner.run(order[k].second);
+                                                               // The engine's progress moves the bar
+                                                               // and lets Ctrl-C stop a long tile.
+                                                               runner.run(order[k].second, [&, k](std::size_t done, std::size_t of) {
+                                                                   if (schedule.check_cancel) {
+                                                                       schedule.check_cancel();
+                                                                   }
+                                                                   live.running(shares[k], order[k].first, done, of);
+                                                               });
                                                                return k;
                                                            }) &
                 tbb::make_filter<std::size_t, void>(tbb::filter_mode::serial_in_order, [&](std::size_t k) {
                     ++groups.runs[order[k].second];
                     ++stats.tile_runs;
-                    done += order[k].first;
-                    if (progress) {
-                        progress(done, total);
-                    }
+                    live.finished(shares[k], order[k].first);
                 }));
     });
     stats.seconds_tiles += seconds_since(t0);

@@ -46,7 +46,9 @@ struct ScheduleOptions {
     int threads = 0;                   ///< 0: all cores
     std::uint64_t memory_pool = 0;     ///< bytes the tiles in flight may take together; 0: no bound
     MemoryModel model;
-    /// Called between tiles; throws to stop the run (e.g. on Ctrl-C).
+    /// Called before each tile and from the engine's progress inside running tiles (from worker
+    /// threads); throws to stop the run (e.g. on Ctrl-C): the tiles running stop, nothing of
+    /// them is committed, and the exception leaves snap()/stitch().
     std::function<void()> check_cancel;
 };
 
@@ -63,7 +65,8 @@ struct StitchStats {
     double seconds_stitch = 0;
 };
 
-/// Called serially after each tile run: (input vertices of the tiles done, of all tiles).
+/// Called serially, never going back: (input vertices done, of all tiles); finished tiles count
+/// whole, running ones by the engine's progress scaled to their vertices.
 using TileProgress = std::function<void(std::uint64_t, std::uint64_t)>;
 
 class TiledRun {

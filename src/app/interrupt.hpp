@@ -1,6 +1,7 @@
 #pragma once
 // SIGINT and SIGTERM during a run: the first one is remembered and the run stops at the next
-// check (between features while reading and writing, between tiles while snapping), throws
+// check (between features while reading and writing, from the engine's progress callback
+// inside every running tile while snapping), throws
 // `interrupted`, and every scope guard removes what it made: nothing is left at OUT. A second
 // signal restores the default action, so a run stuck in one long tile still stops at once
 // (its hidden temporary directory is removed by the next run; OUT is never touched).

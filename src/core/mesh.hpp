@@ -9,6 +9,7 @@
 #include "core/cdt_types.hpp"
 #include "core/edge_owners.hpp"
 #include "core/input_cleaning.hpp"
+#include "core/work_meter.hpp"
 
 #include <span>
 #include <utility>
@@ -49,7 +50,8 @@ inline std::uint64_t edge_key(std::uint32_t a, std::uint32_t b)
 class Mesh {
 public:
     /// `reach`: the largest snapping distance; the frame corners stay further than that.
-    Mesh(const std::vector<CleanFeature>& features, double reach);
+    /// `meter` (optional) hears the points and constraints steps.
+    Mesh(const std::vector<CleanFeature>& features, double reach, WorkMeter* meter = nullptr);
 
     cdt::Triangulation& tri() { return m_tri; }
     const cdt::Triangulation& tri() const { return m_tri; }
@@ -116,8 +118,8 @@ private:
     };
 
     // mesh_build.cpp
-    void insert_points(const std::vector<CleanFeature>& features, double reach);
-    void insert_constraints(const std::vector<CleanFeature>& features);
+    void insert_points(const std::vector<CleanFeature>& features, double reach, WorkMeter* meter);
+    void insert_constraints(const std::vector<CleanFeature>& features, WorkMeter* meter);
     void register_created_vertices(std::size_t first_created);
     std::uint32_t add_record(cdt::Vertex_handle h, double z);
     double interpolated_z(cdt::Vertex_handle h);

@@ -53,11 +53,11 @@ double mean_z(std::vector<InputPoint>::const_iterator first, std::vector<InputPo
 
 } // namespace
 
-Mesh::Mesh(const std::vector<CleanFeature>& features, double reach)
+Mesh::Mesh(const std::vector<CleanFeature>& features, double reach, WorkMeter* meter)
 {
-    insert_points(features, reach);
+    insert_points(features, reach, meter);
     const std::size_t first_created = m_vertices.size();
-    insert_constraints(features);
+    insert_constraints(features, meter);
     register_created_vertices(first_created);
 }
 
@@ -84,8 +84,9 @@ std::vector<std::pair<cdt::Point, std::uint32_t>> frame_points(const std::vector
     return out;
 }
 
-void Mesh::insert_points(const std::vector<CleanFeature>& features, double reach)
+void Mesh::insert_points(const std::vector<CleanFeature>& features, double reach, WorkMeter* meter)
 {
+    if (meter) meter->begin(WorkMeter::Step::points);
     const std::vector<InputPoint> pts = gather_points(features, m_input_ids);
     std::vector<std::pair<cdt::Point, std::uint32_t>> unique;
     std::vector<double> zs;
@@ -108,9 +109,11 @@ void Mesh::insert_points(const std::vector<CleanFeature>& features, double reach
                        CGAL::Spatial_sort_traits_adapter_2<cdt::Kernel,
                            CGAL::First_of_pair_property_map<std::pair<cdt::Point, std::uint32_t>>>());
     cdt::Face_handle hint;
+    std::size_t inserted = 0;
     for (const auto& [p, id] : order) {
         handles[id] = m_tri.insert(p, hint);
         hint = handles[id]->face();
+        if (meter && (++inserted & 1023) == 0) meter->advance(inserted, order.size());
     }
     m_vertices.resize(unique.size());
     for (std::uint32_t id = 0; id < unique.size(); ++id) {
@@ -127,8 +130,12 @@ void Mesh::insert_points(const std::vector<CleanFeature>& features, double reach
 
 // Features are inserted in (id, index) order so crossings are found in an order that does not
 // depend on how the caller ordered its features.
-void Mesh::insert_constraints(const std::vector<CleanFeature>& features)
+void Mesh::insert_constraints(const std::vector<CleanFeature>& features, WorkMeter* meter)
 {
+    if (meter) meter->begin(WorkMeter::Step::constraints);
+    std::size_t total_edges = 0;
+    for (const std::vector<std::uint32_t>& ids : m_input_ids) total_edges += ids.size();
+    std::size_t edges_done = 0;
     std::vector<std::uint32_t> order(features.size());
     std::iota(order.begin(), order.end(), 0u);
     std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
@@ -145,6 +152,7 @@ void Mesh::insert_constraints(const std::vector<CleanFeature>& features)
                 m_owners.push_back(Owner{f, part, static_cast<std::uint32_t>(i), from, to, line});
                 const OwnerRef ref{static_cast<std::uint32_t>(m_owners.size() - 1), true};
                 insert_segment(m_vertices[from].handle, m_vertices[to].handle, std::span(&ref, 1));
+                if (meter && (++edges_done & 255) == 0) meter->advance(edges_done, total_edges);
             }
             base += n;
         };

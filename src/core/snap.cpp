@@ -65,6 +65,7 @@ struct Context {
     std::vector<CleanFeature>& clean;
     Mesh& mesh;
     SnapResult& result;
+    detail::WorkMeter& meter;
 };
 
 double feature_displacement(Context& c, std::size_t f)
@@ -110,6 +111,7 @@ void extract_all(Context& c, const detail::FaceLabels& labels)
         out.max_displacement = std::max(feature_displacement(c, f), deviation[f]);
         c.result.stats.max_displacement = std::max(c.result.stats.max_displacement, out.max_displacement);
         report_outcome(c, f, out.geometry, out.max_displacement);
+        if ((f & 255) == 255) c.meter.advance(f, c.clean.size());
     }
 }
 
@@ -161,7 +163,8 @@ SnapResult snap(const std::vector<Feature>& features, const SnapOptions& options
         for (const auto& line : cf.lines) st.input_vertices += line.size();
     }
     const detail::SnapperParams params = snapper_params(options, st.input_vertices);
-    Mesh mesh(clean, std::max({params.vertex_threshold, params.edge_threshold, params.sliver_threshold}));
+    detail::WorkMeter meter(options.progress, st.input_vertices);
+    Mesh mesh(clean, std::max({params.vertex_threshold, params.edge_threshold, params.sliver_threshold}), &meter);
     st.triangulation_vertices = mesh.tri().number_of_vertices() - Mesh::frame_vertices;
     st.intersections = mesh.intersections();
     const std::vector<bool> crossing = detail::self_intersecting(mesh, clean.size(), options.report_region);
@@ -169,16 +172,18 @@ SnapResult snap(const std::vector<Feature>& features, const SnapOptions& options
         if (crossing[f]) result.problems.push_back(Problem{clean[f].id, ProblemCode::self_intersection,
             "rings cross or overlap; repaired with the odd-even rule", clean[f].rings[0].points[0].x, clean[f].rings[0].points[0].y});
     st.seconds_triangulate = clock.lap();
-    const detail::SnapperOutcome outcome = detail::run_snapper(mesh, params);
+    const detail::SnapperOutcome outcome = detail::run_snapper(mesh, params, &meter);
     st.merges = outcome.merges;
     st.splits = outcome.splits;
     st.rounds = outcome.rounds;
     st.faces_visited = outcome.faces_visited;
     st.fixpoint_misses = outcome.fixpoint_misses;
     st.seconds_snap = clock.lap();
+    meter.begin(detail::WorkMeter::Step::labelling);
     const detail::FaceLabels labels = detail::label_faces(mesh, clean.size());
     st.seconds_label = clock.lap();
-    Context ctx{options, clean, mesh, result};
+    meter.begin(detail::WorkMeter::Step::extraction);
+    Context ctx{options, clean, mesh, result, meter};
     extract_all(ctx, labels);
     std::vector<bool> written(clean.size());
     for (std::size_t f = 0; f < clean.size(); ++f) {
@@ -191,6 +196,7 @@ SnapResult snap(const std::vector<Feature>& features, const SnapOptions& options
     std::stable_sort(result.problems.begin(), result.problems.end(), [](const Problem& a, const Problem& b) {
         return a.feature_id != b.feature_id ? a.feature_id < b.feature_id : a.code < b.code;
     });
+    meter.finish();
     return result;
 }
 

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdio>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -37,6 +38,15 @@ inline constexpr double k_max_tolerance = 0x1p+480;
 /// Coordinates beyond +-2^500 (~3.3e150) are problem 109 (huge coordinate) at any tolerance:
 /// squared differences of coordinates must not overflow (2^1002 < 2^1024).
 inline constexpr double k_max_coordinate = 0x1p+500;
+
+/// Progress of one engine run, and the way to stop it: called on the engine's thread with the
+/// work done so far and the work in all, both measured in input vertices (after cleaning): the
+/// triangulation, the snapping, the labelling and the extraction each take their share of them
+/// (core/work_meter.hpp says how). `done` never decreases and the last call has done == total.
+/// Calls come each time the count has grown by 1/256 of the run (at least 4096 vertices) and
+/// at the end of each step, so a caller can redraw a bar and check for Ctrl-C. To cancel,
+/// throw: the exception leaves snap() as it was thrown, with everything the engine held freed.
+using SnapProgress = std::function<void(std::size_t done, std::size_t total)>;
 
 /// What the engine does; every field says what changes when you flip it.
 struct SnapOptions {
@@ -71,6 +81,8 @@ struct SnapOptions {
     /// still apply (stats.fixpoint_misses; 0 when the engine's local re-discovery is complete).
     /// Costs one more full scan; off in normal runs.
     bool verify_fixpoint = false;
+    /// Progress and cancel callback (see SnapProgress); empty: none. Does not change the result.
+    SnapProgress progress;
 };
 
 /// Counters and timings of one engine run; merge runs (tiles) with +=.

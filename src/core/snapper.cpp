@@ -8,15 +8,17 @@
 
 namespace trisnap::detail {
 
-Snapper::Snapper(Mesh& mesh, const SnapperParams& p)
+Snapper::Snapper(Mesh& mesh, const SnapperParams& p, WorkMeter* meter)
     : m_mesh(mesh), m_p(p), m_vt2(p.vertex_threshold * p.vertex_threshold),
-      m_et2(p.edge_threshold * p.edge_threshold), m_st2(p.sliver_threshold * p.sliver_threshold)
+      m_et2(p.edge_threshold * p.edge_threshold), m_st2(p.sliver_threshold * p.sliver_threshold), m_meter(meter)
 {
 }
 
 std::size_t Snapper::drain()
 {
     std::size_t applied = 0;
+    std::size_t popped = 0;
+    const std::size_t slots = m_mesh.vertex_slots();
     while (!m_queue.empty()) {
         if (m_ops >= m_p.max_operations) {
             m_out.converged = false;
@@ -24,6 +26,11 @@ std::size_t Snapper::drain()
         }
         const Event e = m_queue.top();
         m_queue.pop();
+        // The second half of the step: the share of the queue seen so far (it can grow; the
+        // meter reports only increases).
+        if (m_meter && (++popped & 255) == 0) {
+            m_meter->advance(slots + slots * popped / (popped + m_queue.size()), 2 * slots);
+        }
         if (apply(e)) {
             ++applied;
             ++m_ops;
@@ -110,9 +117,10 @@ SnapperOutcome Snapper::run()
     return m_out;
 }
 
-SnapperOutcome run_snapper(Mesh& mesh, const SnapperParams& params)
+SnapperOutcome run_snapper(Mesh& mesh, const SnapperParams& params, WorkMeter* meter)
 {
-    return Snapper(mesh, params).run();
+    if (meter) meter->begin(WorkMeter::Step::snapping);
+    return Snapper(mesh, params, meter).run();
 }
 
 } // namespace trisnap::detail

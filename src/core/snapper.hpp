@@ -57,6 +57,7 @@ struct SnapperOutcome {
     std::vector<std::uint32_t> unresolved;
 };
 
-SnapperOutcome run_snapper(Mesh& mesh, const SnapperParams& params);
+/// `meter` (optional) hears the snapping step: the first scan, then the queue drained.
+SnapperOutcome run_snapper(Mesh& mesh, const SnapperParams& params, WorkMeter* meter = nullptr);
 
 } // namespace trisnap::detail

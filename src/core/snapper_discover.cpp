@@ -8,9 +8,13 @@ namespace trisnap::detail {
 
 void Snapper::initial_scan()
 {
-    for (std::uint32_t v = 0; v < m_mesh.vertex_slots(); ++v) {
+    const std::size_t slots = m_mesh.vertex_slots();
+    for (std::uint32_t v = 0; v < slots; ++v) {
         if (alive(v)) {
             discover_point(v, true);
+        }
+        if (m_meter && (v & 1023) == 1023) {
+            m_meter->advance(v, 2 * slots);
         }
     }
     for (const cdt::Face_handle f : m_mesh.tri().finite_face_handles()) {

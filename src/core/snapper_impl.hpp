@@ -22,7 +22,7 @@ struct Event {
 
 class Snapper {
 public:
-    Snapper(Mesh& mesh, const SnapperParams& p);
+    Snapper(Mesh& mesh, const SnapperParams& p, WorkMeter* meter);
     SnapperOutcome run();
 
 private:
@@ -62,6 +62,7 @@ private:
     double m_et2;
     double m_st2;
     SnapperOutcome m_out;
+    WorkMeter* m_meter;
     std::priority_queue<Event, std::vector<Event>, std::greater<>> m_queue;
     std::vector<Event> m_parked;       ///< merges refused because a constraint lay between
     std::vector<void*> m_changed;      ///< faces CGAL created or changed since the last look

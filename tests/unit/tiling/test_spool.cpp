@@ -350,5 +350,59 @@ TEST(TiledRun, SmallPoolSplitsTilesAndAResumedRunEqualsUntiled)
     fs::remove_all(dir);
 }
 
+// One tile (as with --no-tiles): the bar moves while the engine works, and Ctrl-C stops it inside
+// the tile instead of after it. Nothing of the stopped tile is committed.
+TEST(TiledRun, OneBigTileReportsProgressInsideAndStopsInside)
+{
+    const double t = 0.01;
+    const auto input = perturbed_grid_coverage(60, 60, 1.0, 0.02, 7, 3, 0.004);
+    const SnapOptions options = options_at(t);
+    stitch::TilingOptions tiling;
+    tiling.plan.vertex_budget = 10000000;
+    tiling.threads = 1;
+    stitch::ScheduleOptions schedule;
+    schedule.threads = 1;
+    auto spool_into = [&](tiling::WorkStore& store) {
+        stitch::FeatureSpool spool(store, t, 100000, 1 << 16);
+        std::vector<Problem> problems;
+        for (std::size_t i = 0; i < input.size(); ++i) {
+            spool.add(i, input[i].id, input[i].geometry, problems);
+        }
+        return spool.finish();
+    };
+    {
+        auto store = tiling::make_memory_store();
+        const stitch::SpoolMeta meta = spool_into(*store);
+        stitch::TiledRun run(*store, options, tiling, schedule);
+        run.plan(meta);
+        ASSERT_EQ(run.layout().plan.size(), 1u);
+        std::vector<std::pair<std::uint64_t, std::uint64_t>> calls;
+        run.snap([&](std::uint64_t done, std::uint64_t total) { calls.emplace_back(done, total); });
+        ASSERT_GE(calls.size(), 5u) << "one tile gave one jump of the bar";
+        for (std::size_t i = 1; i < calls.size(); ++i) {
+            EXPECT_GE(calls[i].first, calls[i - 1].first) << "call " << i << " went back";
+            EXPECT_EQ(calls[i].second, calls[0].second);
+        }
+        EXPECT_LT(calls.front().first, calls.front().second);
+        EXPECT_EQ(calls.back().first, calls.back().second);
+        EXPECT_TRUE(run.missing().empty());
+    }
+    auto store = tiling::make_memory_store();
+    const stitch::SpoolMeta meta = spool_into(*store);
+    int checks = 0;
+    stitch::ScheduleOptions stopping = schedule;
+    stopping.check_cancel = [&] {
+        if (++checks == 3) { // the first check is the scheduler's, before the tile starts
+            throw std::runtime_error("stop");
+        }
+    };
+    stitch::TiledRun run(*store, options, tiling, stopping);
+    run.plan(meta);
+    EXPECT_THROW(run.snap(), std::runtime_error);
+    EXPECT_EQ(checks, 3) << "the engine went on after the cancel";
+    EXPECT_EQ(run.stats().tile_runs, 0u);
+    EXPECT_EQ(run.missing().size(), 1u) << "a stopped tile left a result";
+}
+
 } // namespace
 } // namespace trisnap

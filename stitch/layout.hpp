@@ -14,6 +14,12 @@
 namespace trisnap::stitch {
 
 /// How to cut the layer into tiles; every field says what changes when you flip it.
+/// What a tile does when the engine throws inside it (a CGAL precondition, a logic_error): stop
+/// the run (tile_error), or retry it merged with its neighbours and, when that fails too, drop
+/// the features it met with problem 303 and go on (`--on-error skip`). Running out of memory
+/// and a cancel are never caught.
+enum class OnError { stop, skip };
+
 struct TilingOptions {
     tiling::PlanOptions plan;
     /// Halo width as a factor of t. Cascades of snaps were seen to reach 9t (Monaco, 1e-6 deg)
@@ -27,6 +33,7 @@ struct TilingOptions {
     int max_growth = 0;
     /// Threads for tiles (0: all cores). The output does not depend on it.
     int threads = 0;
+    OnError on_error = OnError::stop;
 };
 
 /// Work file names.

@@ -249,7 +249,15 @@ bool OutputMerger::next(OutputItem& item)
     item.seq = cf.index;
     item.output.id = cf.id;
     item.output.geometry.has_z = has_z;
-    if (!cf.rejected) {
+    const bool failed = std::any_of(pieces.begin(), pieces.end(), [](const Piece& p) {
+        return std::any_of(p.problems.begin(), p.problems.end(), [](const Problem& q) { return q.code == ProblemCode::tile_failed; });
+    });
+    if (failed) {
+        // A tile it met failed (--on-error skip): the edges that tile owned are missing, so the
+        // feature is not written at all; 303 says why (with what else the tiles found).
+        m.tile_problems(cf, pieces, item.problems);
+        ++m.counts.failed;
+    } else if (!cf.rejected) {
         item.output.geometry = m.build(cf, has_z, pieces);
         for (const Piece& p : pieces) {
             item.output.max_displacement = std::max(item.output.max_displacement, p.displacement);

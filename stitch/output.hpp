@@ -25,6 +25,7 @@ struct OutputItem {
 struct OutputCounts {
     std::size_t copied = 0;    ///< taken whole from one tile
     std::size_t assembled = 0; ///< rebuilt from the edges of several tiles
+    std::size_t failed = 0;    ///< not written: a tile they met failed (303)
     SnapStats stats;           ///< the tiles' engine counters summed, per-feature counts global
 };
 

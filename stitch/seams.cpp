@@ -28,8 +28,9 @@ std::vector<SeamEdge> read_seams(const tiling::WorkStore& store, std::size_t gro
 
 class SeamChecker {
 public:
-    SeamChecker(const tiling::WorkStore& store, const TileLayout& layout, const Groups& groups)
-        : m_store(store), m_layout(layout), m_groups(groups)
+    SeamChecker(const tiling::WorkStore& store, const TileLayout& layout, const Groups& groups,
+                const std::vector<std::uint64_t>& dropped)
+        : m_store(store), m_layout(layout), m_groups(groups), m_dropped(dropped)
     {
     }
     /// The groups whose seam edges come near g (g included when it has any).
@@ -78,6 +79,7 @@ private:
     const tiling::WorkStore& m_store;
     const TileLayout& m_layout;
     const Groups& m_groups;
+    const std::vector<std::uint64_t>& m_dropped;
 };
 
 void SeamChecker::check(std::size_t g, const std::vector<std::size_t>& sources,
@@ -90,7 +92,8 @@ void SeamChecker::check(std::size_t g, const std::vector<std::size_t>& sources,
     for (std::size_t h : sources) {
         for (SeamEdge& e : read_seams(m_store, h)) {
             groups_near(e, near);
-            if (!std::binary_search(near.begin(), near.end(), g)) {
+            if (!std::binary_search(near.begin(), near.end(), g) ||
+                std::binary_search(m_dropped.begin(), m_dropped.end(), e.rank)) {
                 continue;
             }
             if (h == g) {
@@ -134,12 +137,13 @@ void SeamChecker::check(std::size_t g, const std::vector<std::size_t>& sources,
 
 } // namespace
 
-SeamVerdict check_seams(const tiling::WorkStore& store, const TileLayout& layout, const Groups& groups, int threads)
+SeamVerdict check_seams(const tiling::WorkStore& store, const TileLayout& layout, const Groups& groups, int threads,
+                        const std::vector<std::uint64_t>& dropped)
 {
     const std::vector<std::size_t> live = groups.live(layout);
     std::vector<std::set<std::pair<std::size_t, std::size_t>>> pairs(live.size());
     std::vector<std::vector<std::pair<std::uint64_t, Problem>>> problems(live.size());
-    const SeamChecker checker(store, layout, groups);
+    const SeamChecker checker(store, layout, groups, dropped);
     // Which groups' seam edges come near which group (an owned edge may be long: its owner's
     // core need not touch the group it comes near).
     std::vector<std::vector<std::size_t>> near(live.size());

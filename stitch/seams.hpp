@@ -23,7 +23,10 @@ struct SeamVerdict {
     std::vector<std::pair<std::uint64_t, Problem>> problems;
 };
 
-SeamVerdict check_seams(const tiling::WorkStore& store, const TileLayout& layout, const Groups& groups, int threads);
+/// `dropped`: ranks of the features failed tiles dropped (--on-error skip), ascending; their edges
+/// are in no output, so they are left out of the comparison.
+SeamVerdict check_seams(const tiling::WorkStore& store, const TileLayout& layout, const Groups& groups, int threads,
+                        const std::vector<std::uint64_t>& dropped = {});
 
 /// Merges the groups of every pair (transitively) into new groups, which start from the widest
 /// halo of their parts; their old files are removed. Returns the new groups, ascending.

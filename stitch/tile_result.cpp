@@ -121,6 +121,8 @@ void put_tile_report(tiling::ByteWriter& w, const TileReport& t)
     }
     w.put(t.seconds);
     put_stats(w, t.stats);
+    w.put<std::uint8_t>(t.failed ? 1 : 0);
+    w.put_string(t.failure);
 }
 
 TileReport get_tile_report(tiling::ByteReader& r)
@@ -141,6 +143,8 @@ TileReport get_tile_report(tiling::ByteReader& r)
     }
     t.seconds = r.get<double>();
     t.stats = get_stats(r);
+    t.failed = r.get<std::uint8_t>() != 0;
+    t.failure = r.get_string();
     return t;
 }
 

@@ -14,6 +14,7 @@
 #include "tiling/plan.hpp"
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace trisnap::stitch {
@@ -53,6 +54,10 @@ struct TileReport {
     double seconds = 0;              ///< wall time of its run
     std::size_t runs = 1;            ///< times its leaves were snapped (seam merges run again)
     SnapStats stats;                 ///< the engine's counters for this tile
+    /// The tile failed alone and merged with its neighbours (--on-error skip): its result holds
+    /// one piece per feature of its input, each with problem 303 and no geometry, and no seams.
+    bool failed = false;
+    std::string failure;             ///< the engine's message, when failed
 };
 
 void put_piece(tiling::ByteWriter& w, const Piece& p);

@@ -3,8 +3,13 @@
 #include "tiling/tile_input.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <map>
 #include <set>
+#include <sstream>
+#include <stdexcept>
+#include <string>
 #include <unordered_map>
 
 namespace trisnap::stitch {
@@ -273,8 +278,90 @@ void TileRunner::commit(std::size_t group, const tiling::TileOutcome& oc, TileRe
     file->commit();
 }
 
+namespace {
+
+// Fault injection for the tests of --on-error (an engine that never fails cannot test it):
+// TRISNAP_FAIL_TILES="3,7/1" makes the tile holding plan leaf 3 throw whenever it runs, and the
+// one holding leaf 7 only while it is that leaf alone (so its retry merged with its neighbours
+// goes through). Read on every call: tests set it per run.
+void injected_failure(const std::vector<std::size_t>& leaves)
+{
+    const char* spec = std::getenv("TRISNAP_FAIL_TILES");
+    if (spec == nullptr || *spec == '\0') {
+        return;
+    }
+    std::istringstream in(spec);
+    std::string item;
+    while (std::getline(in, item, ',')) {
+        const std::size_t slash = item.find('/');
+        const bool alone_only = slash != std::string::npos;
+        std::size_t leaf = 0;
+        try {
+            leaf = std::stoull(item.substr(0, slash));
+        } catch (const std::exception&) {
+            throw std::invalid_argument("TRISNAP_FAIL_TILES: '" + item + "' is not a leaf number");
+        }
+        if (std::find(leaves.begin(), leaves.end(), leaf) != leaves.end() && (!alone_only || leaves.size() == 1)) {
+            throw std::logic_error("injected failure of tile " + std::to_string(leaf) + " (TRISNAP_FAIL_TILES)");
+        }
+    }
+}
+
+} // namespace
+
+void TileRunner::fail(std::size_t group, const std::string& reason) const
+{
+    const tiling::TileJobInput in = gather(group, m_groups.halo[group]);
+    TileReport report;
+    report.id = m_groups.leaves[group].front();
+    report.leaves = m_groups.leaves[group].size();
+    report.core = group_core(m_layout, m_groups, group);
+    report.halo = m_groups.halo[group];
+    report.features = in.features.size();
+    report.input_vertices = in.vertices;
+    report.failed = true;
+    report.failure = reason;
+    std::vector<std::pair<std::uint64_t, const tiling::TileFeature*>> by_rank;
+    for (const tiling::TileFeature& f : in.features) {
+        by_rank.emplace_back(f.rank, &f);
+    }
+    std::sort(by_rank.begin(), by_rank.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    report.problems = by_rank.size();
+    std::string record;
+    {
+        const std::unique_ptr<tiling::OutFile> file = m_store.create(files::result(group));
+        tiling::RecordWriter writer(*file);
+        tiling::ByteWriter w(record);
+        put_tile_report(w, report);
+        writer.write(record);
+        for (const auto& [rank, f] : by_rank) {
+            Piece piece;
+            piece.rank = rank;
+            Problem p;
+            p.feature_id = f->feature.id;
+            p.code = ProblemCode::tile_failed;
+            p.message = "tile " + std::to_string(report.id) + " failed alone and merged with its neighbours (" + reason +
+                        "); not written (--on-error skip)";
+            const Geometry& g = f->feature.geometry;
+            const Path* first = !g.polygons.empty() && !g.polygons[0].rings.empty() ? &g.polygons[0].rings[0]
+                                : !g.lines.empty()                                  ? &g.lines[0]
+                                                                                    : nullptr;
+            p.x = first && !first->empty() ? first->front().x : std::nan("");
+            p.y = first && !first->empty() ? first->front().y : std::nan("");
+            piece.problems.push_back(std::move(p));
+            record.clear();
+            put_piece(w, piece);
+            writer.write(record);
+        }
+        file->commit();
+    }
+    const std::unique_ptr<tiling::OutFile> seams = m_store.create(files::seams(group));
+    seams->commit();
+}
+
 TileReport TileRunner::run(std::size_t group, const SnapProgress& progress) const
 {
+    injected_failure(m_groups.leaves[group]);
     tiling::TileJob job;
     job.core = group_core(m_layout, m_groups, group);
     job.report_region = group_region(m_layout, m_groups, group);

@@ -20,6 +20,9 @@ public:
     /// Snaps the group and commits its files; returns its report. `progress` (optional) is the
     /// engine's callback for this run (SnapProgress: throw from it to stop the tile).
     TileReport run(std::size_t group, const SnapProgress& progress = {}) const;
+    /// Commits the group as failed (--on-error skip): every feature of its input gets problem
+    /// 303 with `reason` and no geometry (the stitch drops it whole), and it has no seams.
+    void fail(std::size_t group, const std::string& reason) const;
     /// Engine vertices the group's input holds (an estimate for a merged group).
     std::uint64_t vertices(std::size_t group) const;
 

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <limits>
+#include <map>
 #include <mutex>
 #include <stdexcept>
 
@@ -138,7 +139,11 @@ struct TiledRun::Impl {
     }
     int threads() const { return schedule.threads > 0 ? schedule.threads : tbb::info::default_concurrency(); }
     void save_groups();
-    void run_groups(std::vector<std::size_t> pending, const TileProgress& progress);
+    void run_groups(std::vector<std::size_t> pending, const TileProgress& progress, bool retry = true);
+    std::vector<std::pair<std::size_t, std::string>> run_once(std::vector<std::size_t> pending, const TileProgress& progress);
+    std::string run_one(const TileRunner& runner, std::size_t group, const std::function<void(std::size_t, std::size_t)>& on_progress);
+    void retry_merged(const std::vector<std::pair<std::size_t, std::string>>& failed, const TileProgress& progress);
+    std::vector<std::uint64_t> dropped_ranks() const;
     std::uint64_t max_tile_vertices() const;
 
     tiling::WorkStore& store;
@@ -170,7 +175,29 @@ std::uint64_t TiledRun::Impl::max_tile_vertices() const
 
 // Biggest first (the last to finish are small); at most 2 x threads in the pipeline and, with
 // a pool, only as many running as their estimates fit. Results do not depend on the order.
-void TiledRun::Impl::run_groups(std::vector<std::size_t> pending, const TileProgress& progress)
+// A tile whose engine throws stops the run (tile_error), or with OnError::skip is retried merged
+// with its neighbours (`retry`), and when that fails too, committed as failed.
+void TiledRun::Impl::run_groups(std::vector<std::size_t> pending, const TileProgress& progress, bool retry)
+{
+    const std::vector<std::pair<std::size_t, std::string>> failed = run_once(std::move(pending), progress);
+    if (failed.empty()) {
+        return;
+    }
+    if (retry) {
+        stats.tiles_failed += failed.size();
+        retry_merged(failed, progress);
+        return;
+    }
+    const TileRunner runner(store, layout, groups, meta, options, tiling.max_growth);
+    for (const auto& [g, reason] : failed) {
+        runner.fail(g, reason);
+    }
+}
+
+// Runs the groups; returns the ones that failed (OnError::skip) with the engine's message, in
+// group order, with nothing of them committed.
+std::vector<std::pair<std::size_t, std::string>> TiledRun::Impl::run_once(std::vector<std::size_t> pending,
+                                                                         const TileProgress& progress)
 {
     const TileRunner runner(store, layout, groups, meta, options, tiling.max_growth);
     std::vector<std::pair<std::uint64_t, std::size_t>> order;
@@ -194,11 +221,11 @@ void TiledRun::Impl::run_groups(std::vector<std::size_t> pending, const TileProg
     std::size_t next = 0;
     LiveCount live(progress, total);
     std::vector<std::uint64_t> shares(order.size(), 0);
-    const int n = threads();
-    tbb::task_arena arena(n);
+    std::vector<std::string> failures(order.size()); // "" or the engine's message, by position in `order`
+    tbb::task_arena arena(threads());
     arena.execute([&] {
         tbb::parallel_pipeline(
-            static_cast<std::size_t>(2 * n),
+            static_cast<std::size_t>(2 * threads()),
             tbb::make_filter<void, std::size_t>(tbb::filter_mode::serial_in_order,
                                                 [&](tbb::flow_control& fc) -> std::size_t {
                                                     if (schedule.check_cancel) {
@@ -219,23 +246,184 @@ void TiledRun::Impl::run_groups(std::vector<std::size_t> pending, const TileProg
                                                                    std::uint64_t bytes;
                                                                    ~Release() { gate.release(bytes); }
                                                                } release{gate, bytes};
-                                                               // The engine's progress moves the bar
-                                                               // and lets Ctrl-C stop a long tile.
-                                                               runner.run(order[k].second, [&, k](std::size_t done, std::size_t of) {
-                                                                   if (schedule.check_cancel) {
-                                                                       schedule.check_cancel();
-                                                                   }
+                                                               failures[k] = run_one(runner, order[k].second, [&, k](std::size_t done, std::size_t of) {
                                                                    live.running(shares[k], order[k].first, done, of);
                                                                });
                                                                return k;
                                                            }) &
                 tbb::make_filter<std::size_t, void>(tbb::filter_mode::serial_in_order, [&](std::size_t k) {
                     ++groups.runs[order[k].second];
-                    ++stats.tile_runs;
+                    if (failures[k].empty()) {
+                        ++stats.tile_runs;
+                    }
                     live.finished(shares[k], order[k].first);
                 }));
     });
     stats.seconds_tiles += seconds_since(t0);
+    std::vector<std::pair<std::size_t, std::string>> failed; // group, reason; in group order
+    for (std::size_t k = 0; k < order.size(); ++k) {
+        if (!failures[k].empty()) {
+            failed.emplace_back(order[k].second, failures[k]);
+        }
+    }
+    std::sort(failed.begin(), failed.end());
+    return failed;
+}
+
+// Runs one tile; returns "" or, with OnError::skip, what the engine threw. A cancel (thrown by
+// check_cancel from the engine's progress), running out of memory and a budget error always
+// leave the run.
+std::string TiledRun::Impl::run_one(const TileRunner& runner, std::size_t group, const std::function<void(std::size_t, std::size_t)>& on_progress)
+{
+    bool cancelled = false;
+    try {
+        runner.run(group, [&](std::size_t done, std::size_t of) {
+            if (schedule.check_cancel) {
+                try {
+                    schedule.check_cancel();
+                } catch (...) {
+                    cancelled = true;
+                    throw;
+                }
+            }
+            on_progress(done, of);
+        });
+        return {};
+    } catch (const std::bad_alloc&) {
+        throw;
+    } catch (const budget_error&) {
+        throw;
+    } catch (const std::exception& e) {
+        if (cancelled) {
+            throw;
+        }
+        const std::string reason = *e.what() ? e.what() : "an exception without a message";
+        if (tiling.on_error == OnError::stop) {
+            const tiling::Box core = group_core(layout, groups, group);
+            char box[200];
+            std::snprintf(box, sizeof box, "%.17g,%.17g,%.17g,%.17g", core.xmin, core.ymin, core.xmax, core.ymax);
+            throw tile_error(groups.leaves[group].front(),
+                             "tile " + std::to_string(groups.leaves[group].front()) + " (core " + box + ", " +
+                                 std::to_string(runner.vertices(group)) + " vertices) failed: " + reason);
+        }
+        return reason;
+    }
+}
+
+// The features failed tiles dropped (their results' pieces), ascending. Reads only the first
+// record of the other results.
+std::vector<std::uint64_t> TiledRun::Impl::dropped_ranks() const
+{
+    std::vector<std::uint64_t> out;
+    std::string record;
+    for (std::size_t g : groups.live(layout)) {
+        if (!store.exists(files::result(g))) {
+            continue;
+        }
+        const std::unique_ptr<tiling::InFile> file = store.open(files::result(g));
+        tiling::RecordReader reader(*file, 4096);
+        if (!reader.next(record)) {
+            continue;
+        }
+        tiling::ByteReader r(record, "tile report");
+        if (!get_tile_report(r).failed) {
+            continue;
+        }
+        while (reader.next(record)) {
+            tiling::ByteReader pr(record, "piece");
+            out.push_back(get_piece(pr).rank);
+        }
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
+// Each failed group merged with every live group whose core touches its own, and run again
+// once. When the merged tile fails too, it is split back into the groups it was made of: the
+// neighbours run again as they were (the same result as before), and only the groups that
+// failed alone are committed as failed (303). A merge the memory pool cannot hold is not tried.
+void TiledRun::Impl::retry_merged(const std::vector<std::pair<std::size_t, std::string>>& failed, const TileProgress& progress)
+{
+    const TileRunner runner(store, layout, groups, meta, options, tiling.max_growth);
+    const std::vector<std::size_t> live = groups.live(layout);
+    const std::uint64_t cap = max_tile_vertices();
+    std::vector<std::pair<std::size_t, std::size_t>> pairs;
+    std::map<std::size_t, std::string> reasons; // failed alone: group -> message
+    for (const auto& [g, reason] : failed) {
+        const tiling::Box core = group_core(layout, groups, g);
+        std::uint64_t vertices = runner.vertices(g);
+        std::vector<std::size_t> neighbours;
+        for (std::size_t h : live) {
+            const tiling::Box other = group_core(layout, groups, h);
+            if (h != g && other.xmin <= core.xmax && core.xmin <= other.xmax && other.ymin <= core.ymax && core.ymin <= other.ymax) {
+                neighbours.push_back(h);
+                vertices += runner.vertices(h);
+            }
+        }
+        if (neighbours.empty() || (cap > 0 && vertices > cap)) {
+            runner.fail(g, reason);
+            continue;
+        }
+        reasons.emplace(g, reason);
+        for (std::size_t h : neighbours) {
+            pairs.emplace_back(std::min(g, h), std::max(g, h));
+        }
+    }
+    if (pairs.empty()) {
+        save_groups();
+        return;
+    }
+    // What each merged group is made of, to split it back.
+    struct Part {
+        std::vector<std::size_t> leaves;
+        double halo;
+        std::uint32_t runs;
+        std::string reason; ///< "" for a neighbour that did not fail
+    };
+    std::map<std::size_t, Part> parts; // old group -> part
+    for (const auto& [a, b] : pairs) {
+        for (std::size_t g : {a, b}) {
+            auto it = reasons.find(g);
+            parts.try_emplace(g, Part{groups.leaves[g], groups.halo[g], groups.runs[g], it == reasons.end() ? "" : it->second});
+        }
+    }
+    const std::size_t seam_merges = groups.seam_merges;
+    const std::vector<std::size_t> added = merge_groups(store, groups, pairs);
+    groups.seam_merges = seam_merges; // not a seam that disagreed
+    save_groups();
+    const std::vector<std::pair<std::size_t, std::string>> again = run_once(added, progress);
+    if (again.empty()) {
+        return;
+    }
+    std::vector<std::size_t> rerun;
+    std::vector<std::pair<std::size_t, std::string>> dropped;
+    for (const auto& [merged, message] : again) {
+        const std::vector<std::size_t> leaves = groups.leaves[merged];
+        groups.leaves[merged].clear();
+        for (const auto& [old, part] : parts) {
+            if (std::find(leaves.begin(), leaves.end(), part.leaves.front()) == leaves.end()) {
+                continue;
+            }
+            const std::size_t id = groups.leaves.size();
+            for (std::size_t leaf : part.leaves) {
+                groups.of_leaf[leaf] = id;
+            }
+            groups.leaves.push_back(part.leaves);
+            groups.halo.push_back(part.halo);
+            groups.runs.push_back(part.runs);
+            if (part.reason.empty()) {
+                rerun.push_back(id);
+            } else {
+                dropped.emplace_back(id, part.reason);
+            }
+        }
+    }
+    save_groups();
+    for (const auto& [g, reason] : dropped) {
+        runner.fail(g, reason);
+    }
+    run_groups(rerun, progress, false);
 }
 
 TiledRun::TiledRun(tiling::WorkStore& store, const SnapOptions& options, const TilingOptions& tiling,
@@ -295,7 +483,10 @@ void TiledRun::snap(const TileProgress& progress, const std::function<bool(std::
             pending.push_back(g);
         }
     }
-    m_impl->run_groups(std::move(pending), progress);
+    // A shard (`mine`) shares the groups file with other processes: it cannot merge a failed
+    // tile with neighbours it does not own, so with OnError::skip its failed tiles are committed
+    // as failed at once (the stitch's seam loop may still merge them later).
+    m_impl->run_groups(std::move(pending), progress, !mine);
 }
 
 void TiledRun::stitch(const TileProgress& progress)
@@ -303,7 +494,7 @@ void TiledRun::stitch(const TileProgress& progress)
     Impl& m = *m_impl;
     for (;;) {
         const auto t0 = std::chrono::steady_clock::now();
-        const SeamVerdict verdict = check_seams(m.store, m.layout, m.groups, m.threads());
+        const SeamVerdict verdict = check_seams(m.store, m.layout, m.groups, m.threads(), m.dropped_ranks());
         m.stats.seconds_stitch += seconds_since(t0);
         if (verdict.pairs.empty()) {
             break;
@@ -404,9 +595,12 @@ TiledResult snap_tiled(const std::vector<Feature>& features, const SnapOptions& 
     out.stitch = run.stats();
     out.stitch.copied_features = merger->counts().copied;
     out.stitch.assembled_features = merger->counts().assembled;
+    out.stitch.failed_features = merger->counts().failed;
+    out.stitch.tiles_dropped = 0;
     for (const TileReport& t : out.tiles) {
         out.stitch.halo_growths += static_cast<std::size_t>(t.growths);
         out.stitch.unbounded_cascades += t.cascade_unbounded ? 1 : 0;
+        out.stitch.tiles_dropped += t.failed ? 1 : 0;
     }
     return out;
 }

@@ -21,6 +21,7 @@
 
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,16 @@ struct MemoryModel {
     }
 };
 
+/// A tile failed and the run stops (OnError::stop): names the tile, its core and the reason.
+class tile_error : public std::runtime_error {
+public:
+    tile_error(std::size_t tile, const std::string& what) : std::runtime_error(what), m_tile(tile) {}
+    std::size_t tile() const { return m_tile; }
+
+private:
+    std::size_t m_tile;
+};
+
 struct ScheduleOptions {
     int threads = 0;                   ///< 0: all cores
     std::uint64_t memory_pool = 0;     ///< bytes the tiles in flight may take together; 0: no bound
@@ -61,6 +72,9 @@ struct StitchStats {
     std::size_t copied_features = 0;    ///< taken whole from one tile
     std::size_t assembled_features = 0; ///< rebuilt from edges of several tiles
     std::size_t tile_runs = 0;       ///< tiles snapped by this process
+    std::size_t tiles_failed = 0;    ///< tiles that failed alone (--on-error skip)
+    std::size_t tiles_dropped = 0;   ///< tiles that failed merged with their neighbours too
+    std::size_t failed_features = 0; ///< features not written because of them (303)
     double seconds_tiles = 0;        ///< wall time of the tile runs
     double seconds_stitch = 0;
 };
@@ -77,7 +91,8 @@ public:
     /// Plans and fills the buckets, unless the store holds a plan already (resume); the tile
     /// budget comes from the memory pool when there is one.
     void plan(const SpoolMeta& meta, const PassProgress& progress = {});
-    /// Snaps every tile that has no result yet; `mine(group)` picks a share of them.
+    /// Snaps every tile that has no result yet; `mine(group)` picks a share of them (then a tile
+    /// that fails under OnError::skip is not retried merged with its neighbours).
     void snap(const TileProgress& progress = {}, const std::function<bool(std::size_t)>& mine = {});
     /// Groups (tiles) that have no result yet.
     std::vector<std::size_t> missing() const;

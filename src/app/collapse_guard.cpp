@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace trisnap {
@@ -52,7 +53,9 @@ std::size_t count_vanished(stitch::TiledRun& run)
     stitch::OutputItem item;
     std::size_t vanished = 0;
     while (merger->next(item)) {
-        if (item.output.geometry.empty()) {
+        const bool failed_tile = std::any_of(item.problems.begin(), item.problems.end(),
+                                             [](const Problem& p) { return p.code == ProblemCode::tile_failed; });
+        if (item.output.geometry.empty() && !failed_tile) {
             ++vanished;
         }
     }

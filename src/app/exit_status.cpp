@@ -2,6 +2,7 @@
 
 #include "app/interrupt.hpp"
 #include "config/errors.hpp"
+#include "stitch/tiled_snap.hpp"
 
 #include <new>
 
@@ -51,6 +52,10 @@ ExitStatus exit_status(const std::exception& e)
     }
     if (const auto* stop = dynamic_cast<const interrupted*>(&e)) {
         return {stop->signal() == SIGINT ? 130 : 1, e.what()};
+    }
+    if (dynamic_cast<const stitch::tile_error*>(&e) != nullptr) {
+        return {1, std::string(e.what()) + "; nothing was left at OUT (--on-error skip retries the tile merged with "
+                                            "its neighbours, then reports its features as problem 303 and goes on)"};
     }
     const bool usage = dynamic_cast<const argument_error*>(&e) != nullptr ||
                        dynamic_cast<const config_error*>(&e) != nullptr;

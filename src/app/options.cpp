@@ -91,6 +91,9 @@ void add_run_options(CLI::App& c, SnapArgs& a)
     c.add_option("--threads", a.threads, "worker threads for GDAL and oneTBB; 0 = all cores ([run] threads)");
     add_tiling_options(c, a);
     c.add_option("--memory-limit", a.memory_limit, "out of core under this much memory, e.g. 2GiB, 512MiB ([run] memory_limit)");
+    c.add_option("--on-error", a.on_error, "when a tile's engine fails: stop the run, or skip: retry it merged with its "
+                                           "neighbours, then report its features (problem 303) and go on ([run] on_error)")
+        ->check(CLI::IsMember({"stop", "skip"}));
     c.add_option("--work-dir", a.work_dir, "directory for the work files of an out-of-core run (default: .OUT.trisnap-work beside OUT)");
     c.add_flag("--resume", a.resume, "continue the run whose work directory is there (same command and input)");
     add_logging_options(c, a);
@@ -138,6 +141,7 @@ Config resolve_config(const SnapArgs& args)
     if (args.memory_limit) {
         config.run.memory_limit = parse_size(*args.memory_limit, "--memory-limit");
     }
+    overlay(args.on_error, config.run.on_error);
     overlay(args.tile_size, config.tiling.size);
     overlay(args.tile_vertex_budget, config.tiling.vertex_budget);
     overlay(args.halo, config.tiling.halo);

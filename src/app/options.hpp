@@ -40,6 +40,7 @@ struct SnapArgs {
     std::optional<double> halo;
     std::optional<int> halo_max_growth;
     std::optional<std::string> memory_limit;
+    std::optional<std::string> on_error; ///< --on-error stop|skip ([run] on_error)
     std::string work_dir;
     bool resume = false;
     bool no_tiles = false;

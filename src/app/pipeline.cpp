@@ -105,7 +105,8 @@ std::string run_manifest(const Plan& plan)
                   {"sliver_factor", o.sliver_factor}, {"grid", o.grid}, {"max_drift_factor", o.max_drift_factor},
                   {"max_operations", o.max_operations}}},
         {"tiling", {{"single", t.plan.single}, {"size", t.plan.tile_size}, {"vertex_budget", t.plan.vertex_budget},
-                    {"halo", t.halo_factor}, {"max_growth", t.max_growth}}},
+                    {"halo", t.halo_factor}, {"max_growth", t.max_growth},
+                    {"on_error", t.on_error == stitch::OnError::skip ? "skip" : "stop"}}},
     };
     return m.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
 }

@@ -211,6 +211,7 @@ stitch::TilingOptions tiling_options(const Config& config)
     t.halo_factor = config.tiling.halo;
     t.max_growth = config.tiling.max_growth;
     t.threads = config.run.threads;
+    t.on_error = config.run.on_error == "skip" ? stitch::OnError::skip : stitch::OnError::stop;
     return t;
 }
 

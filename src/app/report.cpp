@@ -86,13 +86,15 @@ ordered_json tiling_json(const RunResult& r)
         {"leaves", s.leaves}, {"tiles", s.tiles}, {"tile_runs", s.tile_runs}, {"seam_merges", s.seam_merges},
         {"halo_growths", s.halo_growths}, {"unbounded_cascades", s.unbounded_cascades},
         {"copied_features", s.copied_features}, {"assembled_features", s.assembled_features},
+        {"tiles_failed", s.tiles_dropped}, {"failed_features", s.failed_features},
         {"seconds_tiles", s.seconds_tiles}, {"seconds_stitch", s.seconds_stitch}};
     ordered_json list = ordered_json::array();
     for (const stitch::TileReport& t : r.tiles)
         list.push_back({{"id", t.id}, {"leaves", t.leaves}, {"core", {t.core.xmin, t.core.ymin, t.core.xmax, t.core.ymax}},
                         {"halo", t.halo}, {"halo_growths", t.growths}, {"runs", t.runs}, {"features", t.features},
                         {"input_vertices", t.input_vertices}, {"owned_edges", t.output_edges_owned},
-                        {"problems", t.problems}, {"seconds", t.seconds}});
+                        {"problems", t.problems}, {"seconds", t.seconds},
+                        {"failed", t.failed ? ordered_json(t.failure) : ordered_json(nullptr)}});
     out["list"] = list;
     return out;
 }

@@ -229,9 +229,12 @@ void RunPhases::write(Plan& plan, LayerWriter& writer)
         m_result.stitch = m_run->stats();
         m_result.stitch.copied_features = merger->counts().copied;
         m_result.stitch.assembled_features = merger->counts().assembled;
+        m_result.stitch.failed_features = merger->counts().failed;
+        m_result.stitch.tiles_dropped = 0;
         for (const stitch::TileReport& t : m_result.tiles) {
             m_result.stitch.halo_growths += static_cast<std::size_t>(t.growths);
             m_result.stitch.unbounded_cascades += t.cascade_unbounded ? 1 : 0;
+            m_result.stitch.tiles_dropped += t.failed ? 1 : 0;
         }
     });
     m_result.seconds_write = m_result.phases.back().seconds;

@@ -151,7 +151,9 @@ void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerge
     }
     progress.finish();
     interrupt.check();
-    check_collapse(plan, result.dropped, result.input); // before OUT is committed: nothing goes into place
+    // Before OUT is committed: nothing goes into place. Features of failed tiles (303) are not
+    // collapses: they are reported, and --on-error skip asked for them to be left out.
+    check_collapse(plan, result.dropped - merger.counts().failed, result.input);
     writer.commit();
     for (Problem& p : writer.take_problems()) {
         result.problems.push_back(std::move(p)); // values and field names the format changed

@@ -128,6 +128,25 @@ Setter set_size(Section Config::*section, std::uint64_t Section::*field)
     };
 }
 
+// One of a few words.
+template <typename Section>
+Setter set_choice(Section Config::*section, std::string Section::*field, std::vector<std::string> allowed)
+{
+    return [section, field, allowed](const toml::node& n, Config& c) -> std::string {
+        auto text = n.value<std::string>();
+        if (!text) {
+            return k_wrong_type;
+        }
+        if (std::find(allowed.begin(), allowed.end(), *text) == allowed.end()) {
+            std::string list;
+            for (const std::string& a : allowed) list += (list.empty() ? "" : " or ") + ("\"" + a + "\"");
+            return "expected " + list + ", got \"" + *text + "\"";
+        }
+        (c.*section).*field = *text;
+        return "";
+    };
+}
+
 const std::vector<KeySpec>& key_specs()
 {
     static const std::vector<KeySpec> specs{
@@ -146,6 +165,7 @@ const std::vector<KeySpec>& key_specs()
         {"run", "threads", set(&Config::run, &RunConfig::threads)},
         {"run", "memory_limit", set_size(&Config::run, &RunConfig::memory_limit)},
         {"run", "allow_collapse", set(&Config::run, &RunConfig::allow_collapse)},
+        {"run", "on_error", set_choice(&Config::run, &RunConfig::on_error, {"stop", "skip"})},
     };
     return specs;
 }
@@ -305,11 +325,14 @@ std::string to_toml(const Config& config)
         out += "memory_limit = " + std::to_string(config.run.memory_limit) + " # " + format_size(config.run.memory_limit) + "\n";
     }
     out += std::string("allow_collapse = ") + (config.run.allow_collapse ? "true" : "false") + "\n";
+    out += "on_error = \"" + config.run.on_error + "\"\n";
     return out;
 }
 
 std::string check_config(const Config& config)
 {
+    if (config.run.on_error != "stop" && config.run.on_error != "skip")
+        return "on_error must be \"stop\" or \"skip\", got \"" + config.run.on_error + "\"";
     const SnapConfig& s = config.snap;
     auto bad = [](double v) { return !std::isfinite(v); };
     if (s.tolerance && (bad(*s.tolerance) || *s.tolerance <= 0))

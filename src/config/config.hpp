@@ -29,6 +29,10 @@ struct RunConfig {
     /// Write the output even when snapping drops more than 10 % of the features (or any, with a
     /// tolerance in degrees above the warning threshold); false: stop before writing (exit 2).
     bool allow_collapse = false;
+    /// A tile whose engine fails (an exception inside CGAL or the snapper): "stop" ends the run
+    /// (exit 1, nothing written); "skip" retries it merged with its neighbours and, when that
+    /// fails too, reports its features (problem 303, not written) and goes on.
+    std::string on_error = "stop";
 };
 
 /// [tiling]: how a layer is cut into tiles (see stitch/tiled_snap.hpp TilingOptions).

@@ -28,6 +28,7 @@ constexpr std::array k_catalogue{
     ProblemInfo{ProblemCode::thin_part_collapsed, "thin_part_collapsed", "a spike or corridor thinner than the tolerance collapsed to a line and left the polygon"},
     ProblemInfo{ProblemCode::seam_mismatch, "seam_mismatch", "tiles disagreed on a seam vertex; reconciled"},
     ProblemInfo{ProblemCode::seam_cascade, "seam_cascade", "a snap cascade reached a tile halo; the tile was re-run wider"},
+    ProblemInfo{ProblemCode::tile_failed, "tile_failed", "its tile failed, alone and merged with its neighbours (--on-error skip); not written"},
     ProblemInfo{ProblemCode::unreadable_feature, "unreadable_feature", "the driver could not read this feature"},
     ProblemInfo{ProblemCode::unwritable_feature, "unwritable_feature", "the driver refused to write this feature"},
     ProblemInfo{ProblemCode::value_changed, "value_changed", "the output format cannot hold a field value as it was: cut, rounded or converted (the message names the field)"},

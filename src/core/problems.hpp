@@ -33,6 +33,7 @@ enum class ProblemCode : int {
     // 3xx: seams between tiles
     seam_mismatch = 301,          ///< tiles disagreed on a seam vertex; reconciled
     seam_cascade = 302,           ///< a snap cascade reached a tile halo; tile re-run wider
+    tile_failed = 303,            ///< its tile failed twice (--on-error skip); not written
     // 9xx: I/O
     unreadable_feature = 901,     ///< the driver could not read this feature
     unwritable_feature = 902,     ///< the driver refused to write this feature

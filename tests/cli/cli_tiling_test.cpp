@@ -4,7 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <fstream>
+#include <map>
+#include <set>
 
 namespace trisnap::test {
 namespace {
@@ -82,5 +85,99 @@ TEST(CliTiling, TilingConfigKeysAreReadAndChecked)
     EXPECT_NE(r.err.find("tiling.sise"), std::string::npos) << r.err;
 }
 
+// A tile whose engine fails (injected with TRISNAP_FAIL_TILES, stitch/tile_run.cpp): by default
+// the run stops with one line naming the tile and leaves nothing; with --on-error skip the tile
+// is retried merged with its neighbours, and what fails again is reported feature by feature
+// (303) while everything else is written exactly as without the failure.
+class CliOnError : public ::testing::Test {
+protected:
+    void SetUp() override
+    {
+        if (!exists(andorra())) GTEST_SKIP() << "data set absent: " << andorra();
+        const RunOutput r = run_trisnap(dir, with_options({"snap", andorra(), plain, "-q", "--report", plain + ".json"}));
+        ASSERT_EQ(r.code, 0) << r.err;
+        const auto report = read_json(plain + ".json");
+        std::size_t most = 0;
+        for (const auto& t : report["tiling"]["list"]) {
+            if (t["features"].get<std::size_t>() > most) {
+                most = t["features"].get<std::size_t>();
+                tile = t["id"].get<std::size_t>();
+            }
+        }
+        ASSERT_GT(report["tiling"]["tiles"].get<std::size_t>(), 4u);
+    }
+    void TearDown() override { ::unsetenv("TRISNAP_FAIL_TILES"); }
+    static std::vector<std::string> with_options(std::vector<std::string> args)
+    {
+        for (const char* a : {"--tolerance", "1e-6", "--tile-size", "0.02", "--threads", "2"}) args.push_back(a);
+        return args;
+    }
+    TempDir dir;
+    const std::string plain = dir.path("plain.gpkg");
+    std::size_t tile = 0;
+};
+
+TEST_F(CliOnError, DefaultStopsWithOneLineNamingTheTileAndLeavesNothing)
+{
+    ::setenv("TRISNAP_FAIL_TILES", std::to_string(tile).c_str(), 1);
+    const std::string out = dir.path("out.gpkg");
+    const RunOutput r = run_trisnap(dir, with_options({"snap", andorra(), out}));
+    EXPECT_EQ(r.code, 1);
+    ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
+    EXPECT_NE(r.err.find("tile " + std::to_string(tile) + " (core "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("injected failure"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--on-error skip"), std::string::npos) << r.err;
+    EXPECT_FALSE(exists(out));
+}
+
+TEST_F(CliOnError, SkipReportsEveryDroppedFeatureAndWritesTheRestUnchanged)
+{
+    ::setenv("TRISNAP_FAIL_TILES", std::to_string(tile).c_str(), 1);
+    const std::string out = dir.path("out.gpkg");
+    RunOutput r = run_trisnap(dir, with_options({"snap", andorra(), out, "-q", "--on-error", "skip", "--report", out + ".json"}));
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto report = read_json(out + ".json");
+    EXPECT_EQ(report["tiling"]["tiles_failed"].get<std::size_t>(), 1u);
+    const std::size_t failed = report["tiling"]["failed_features"].get<std::size_t>();
+    ASSERT_GT(failed, 0u);
+    std::set<std::int64_t> dropped;
+    for (const auto& p : report["problems"]) {
+        if (p["code"].get<int>() == 303) {
+            EXPECT_TRUE(dropped.insert(p["fid"].get<std::int64_t>()).second);
+            EXPECT_NE(p["message"].get<std::string>().find("injected failure"), std::string::npos);
+        }
+    }
+    EXPECT_EQ(dropped.size(), failed);
+    std::map<std::int64_t, std::string> expected;
+    for (const ReadFeature& f : read_layer(plain)) expected[f.fid] = f.wkt;
+    std::size_t written = 0;
+    for (const ReadFeature& f : read_layer(out)) {
+        EXPECT_FALSE(dropped.count(f.fid)) << "FID " << f.fid << " has 303 but was written";
+        EXPECT_EQ(f.wkt, expected.at(f.fid)) << "FID " << f.fid;
+        ++written;
+    }
+    EXPECT_EQ(written + dropped.size(), expected.size());
+    EXPECT_EQ(report["counts"]["written"].get<std::size_t>(), written);
+    // A tile that fails only alone goes through merged with its neighbours: nothing is lost.
+    ::setenv("TRISNAP_FAIL_TILES", (std::to_string(tile) + "/1").c_str(), 1);
+    const std::string retried = dir.path("retried.gpkg");
+    r = run_trisnap(dir, with_options({"snap", andorra(), retried, "-q", "--on-error", "skip"}));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(file_bytes(retried), file_bytes(plain));
+    // The config key does the same; a bad value names the key.
+    const std::string cfg = dir.path("c.toml");
+    std::ofstream(cfg) << "[run]\non_error = \"skip\"\n";
+    ::setenv("TRISNAP_FAIL_TILES", std::to_string(tile).c_str(), 1);
+    r = run_trisnap(dir, with_options({"snap", andorra(), dir.path("cfg.gpkg"), "-q", "--settings", cfg}));
+    EXPECT_EQ(r.code, 0) << r.err;
+    std::ofstream(cfg) << "[run]\non_error = \"ignore\"\n";
+    r = run_trisnap(dir, with_options({"snap", andorra(), dir.path("bad.gpkg"), "--settings", cfg}));
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("on_error"), std::string::npos) << r.err;
+    r = run_trisnap(dir, with_options({"snap", andorra(), dir.path("bad.gpkg"), "--on-error", "ignore"}));
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("--on-error"), std::string::npos) << r.err;
+}
+
 } // namespace
-} // namespace trisnap::test
+} // namespace trisnap

@@ -67,7 +67,7 @@ const std::vector<int>& not_written_codes() {
     static const std::vector<int> codes = code_numbers(
         {ProblemCode::non_finite_coordinate, ProblemCode::empty_geometry, ProblemCode::unsupported_geometry,
          ProblemCode::huge_coordinate, ProblemCode::collapsed_polygon, ProblemCode::collapsed_line,
-         ProblemCode::unreadable_feature, ProblemCode::unwritable_feature});
+         ProblemCode::tile_failed, ProblemCode::unreadable_feature, ProblemCode::unwritable_feature});
     return codes;
 }
 

@@ -4,6 +4,7 @@
 #include "io/checked_files.hpp"
 #include "io/gdal_errors.hpp"
 #include "io/io_error.hpp"
+#include "io/layer_options.hpp"
 #include "io/output_driver.hpp"
 #include "io/update_target.hpp"
 
@@ -16,28 +17,6 @@
 namespace trisnap {
 namespace fs = std::filesystem;
 namespace {
-
-bool has_option(const std::vector<std::string>& options, const std::string& key)
-{
-    return std::any_of(options.begin(), options.end(), [&](const std::string& o) {
-        return o.size() > key.size() && o[key.size()] == '=' && EQUALN(o.c_str(), key.c_str(), key.size());
-    });
-}
-
-bool driver_has_layer_option(GDALDriver& driver, const std::string& key)
-{
-    const char* list = driver.GetMetadataItem(GDAL_DS_LAYER_CREATIONOPTIONLIST);
-    return list && std::string(list).find("name='" + key + "'") != std::string::npos;
-}
-
-/// Adds KEY=VALUE unless the user gave KEY, when the driver knows KEY.
-void add_default(std::vector<std::string>& options, GDALDriver& driver, const std::string& key,
-                 const std::string& value)
-{
-    if (!has_option(options, key) && driver_has_layer_option(driver, key)) {
-        options.push_back(key + "=" + value);
-    }
-}
 
 /// A field name for the original FID that does not clash with an existing field.
 std::string orig_fid_name(const OGRFeatureDefn& defn)
@@ -149,7 +128,7 @@ void LayerWriter::add_target(GDALDriver& driver, OGRLayer& source, bool renumber
     Target& t = m_targets.emplace_back();
     t.keeps_fids = driver_keeps_fids(driver) && !renumber;
     if (!m_in_place || !take_existing(t, source)) {
-        create_layer(t, source, layer_options(driver, source));
+        create_layer(t, source, creation_options(m_options.layer_options, driver, source));
         create_fields(t, *source.GetLayerDefn());
     }
     t.name = t.layer->GetName();
@@ -228,38 +207,6 @@ void LayerWriter::delete_layer(const std::string& name)
         }
     }
     throw io_error(m_options.path, name, capture.last_error("cannot delete the layer to replace it"));
-}
-
-std::vector<std::string> LayerWriter::layer_options(GDALDriver& driver, OGRLayer& source) const
-{
-    std::vector<std::string> options = m_options.layer_options;
-    const std::string fid_column = source.GetFIDColumn();
-    if (!fid_column.empty()) {
-        add_default(options, driver, "FID", fid_column);
-    }
-    const std::string geometry_column = source.GetGeometryColumn();
-    if (!geometry_column.empty()) {
-        add_default(options, driver, "GEOMETRY_NAME", geometry_column);
-    }
-    // Shapefiles stamp today's date in the .dbf header; a fixed date makes bytes repeatable.
-    add_default(options, driver, "DBF_DATE_LAST_UPDATE", "2000-01-01");
-    // GeoJSON defaults to 15 significant digits, which can move snapped vertices; keep them exact.
-    if (!has_option(options, "COORDINATE_PRECISION")) {
-        add_default(options, driver, "SIGNIFICANT_FIGURES", "17");
-    }
-    // OGR hands us UTF-8; without this the Shapefile driver would recode to ISO-8859-1.
-    if (m_driver_name == "ESRI Shapefile") {
-        add_default(options, driver, "ENCODING", "UTF-8");
-    }
-    // FlatGeobuf's spatial index sorts features along a Hilbert curve; without it they stay in input order.
-    if (m_driver_name == "FlatGeobuf") {
-        add_default(options, driver, "SPATIAL_INDEX", "NO");
-    }
-    // CSV drops geometries unless told where to put them: as WKT in a column, like ogr2ogr -lco.
-    if (m_driver_name == "CSV") {
-        add_default(options, driver, "GEOMETRY", "AS_WKT");
-    }
-    return options;
 }
 
 void LayerWriter::create_layer(Target& t, OGRLayer& source, const std::vector<std::string>& options)

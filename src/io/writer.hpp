@@ -121,7 +121,6 @@ private:
     const char* outcome() const;
     void create_layer(Target& t, OGRLayer& source, const std::vector<std::string>& options);
     void create_fields(Target& t, const OGRFeatureDefn& source);
-    std::vector<std::string> layer_options(GDALDriver& driver, OGRLayer& source) const;
     void throw_if_write_failed() const;
     [[noreturn]] void fail_finishing(const std::string& gdal_message) const;
     void finish();

@@ -144,6 +144,7 @@ void check_several_outputs(const SnapArgs& args, const Plan& plan, GDALDriver& d
 void check_outputs(const SnapArgs& args, Plan& plan, GDALDriver& driver)
 {
     check_several_outputs(args, plan, driver);
+    plan.write.renamable = plan.layers.size() == 1;
     for (OGRLayer* layer : plan.layers) {
         probe_output(driver, plan.write, *layer);
         check_update_target(plan.write, driver, *layer);

@@ -34,6 +34,7 @@ struct WriteOptions {
     bool overwrite = false;
     bool update = false; ///< --update: write the layer into an existing OUT beside its other layers
     bool append = false; ///< --append: add the features to OUT's layer of that name
+    bool renamable = true; ///< -nln could name the output layer (not when several layers go to OUT)
     /// Per source layer: its input FIDs are unusable (duplicate or missing): always add orig_fid.
     /// Missing entries are false.
     std::vector<bool> renumber;

@@ -269,7 +269,8 @@ TEST(CliLayers, UpdateOverwriteAndAppendActPerOutputLayer)
     ASSERT_EQ(run_trisnap(dir, {"snap", in, out, "--layer", "C", "--tolerance", "1e-7", "-q"}).code, 0);
     ASSERT_EQ(run_trisnap(dir, {"snap", in, out, "--layer", "A", "--tolerance", "0.01", "-q", "--update"}).code, 0);
     const std::string before = file_bytes(out);
-    expect_error(run_trisnap(dir, snap(in, out, {"--update"})), 2, "has a layer 'A' already");
+    expect_error(run_trisnap(dir, snap(in, out, {"--update"})), 2,
+                 "has a layer 'A' already; add --overwrite to replace it or --append to add to it");
     EXPECT_TRUE(file_bytes(out) == before) << "a refused --update changed OUT";
     ASSERT_EQ(run_trisnap(dir, snap(in, out, {"--overwrite"})).code, 0);
     EXPECT_EQ(read_layer(out, "C").size(), 1u) << "--overwrite replaced a layer it does not write";

@@ -117,7 +117,7 @@ SnapArgs snap_args(const DataSet& data, const fs::path& input, const OutputForma
     SnapArgs args;
     args.input = input.string();
     args.output = (output_dir() / (std::string(data.name) + format.extension)).string();
-    args.layer = data.layer;
+    args.layers = {data.layer};
     if (data.metres)
         args.tolerance_m = data.tolerance;
     else

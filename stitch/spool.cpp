@@ -120,24 +120,38 @@ struct FeatureSpool::Impl {
     void note_fid(std::int64_t fid)
     {
         if (fid == k_null_fid) {
-            meta.fids_unique = false;
+            layer_unique = false;
         }
-        if (!meta.fids_unique) {
+        if (!layer_unique) {
             return;
         }
         fids.push_back(fid);
         if (fids.size() >= fid_cap) {
             std::sort(fids.begin(), fids.end());
             if (std::adjacent_find(fids.begin(), fids.end()) != fids.end()) {
-                meta.fids_unique = false;
+                layer_unique = false;
             }
             store.put(fid_run(runs++), std::string_view(reinterpret_cast<const char*>(fids.data()), fids.size() * sizeof(std::int64_t)));
             fids.clear();
         }
     }
 
+    // Whether the current layer's FIDs were unique, and the check's state reset for the next.
+    bool end_layer()
+    {
+        const bool unique = layer_unique && unique_across_runs(store, runs, fids);
+        store.remove_all("fids-");
+        fids.clear();
+        runs = 0;
+        layer_unique = true;
+        ++layers_ended;
+        return unique;
+    }
+
     tiling::WorkStore& store;
     double tolerance;
+    bool layer_unique = true;
+    std::size_t layers_ended = 0;
     tiling::VertexSample sample;
     std::size_t fid_cap;
     std::vector<std::int64_t> fids;
@@ -194,15 +208,21 @@ void FeatureSpool::skip(std::int64_t fid)
     m_impl->note_fid(fid);
 }
 
+bool FeatureSpool::end_layer()
+{
+    return m_impl->end_layer();
+}
+
 SpoolMeta FeatureSpool::finish()
 {
     Impl& m = *m_impl;
     m.features->commit();
     m.offsets->commit();
-    if (m.meta.fids_unique) {
-        m.meta.fids_unique = unique_across_runs(m.store, m.runs, m.fids);
+    if (m.layers_ended == 0) {
+        m.meta.fids_unique = m.end_layer();
+    } else {
+        m.meta.fids_unique = false; // several layers: their FIDs may repeat across them
     }
-    m.store.remove_all("fids-");
     m.meta.sample = m.sample.take();
     std::string bytes;
     tiling::ByteWriter w(bytes);

@@ -46,7 +46,12 @@ public:
     void add(std::uint64_t seq, std::int64_t fid, const Geometry& geometry, std::vector<Problem>& problems);
     /// A feature read but not snapped (passed through or rejected): its FID still counts.
     void skip(std::int64_t fid);
-    /// Commits features.bin, features.idx and spool.meta.
+    /// Several layers in one run: call after each layer's features. True when that layer's FIDs
+    /// were unique within it (its output can keep them); the engine then takes input positions
+    /// as ids whatever the answer, since FIDs may repeat across layers (meta.fids_unique false).
+    bool end_layer();
+    /// Commits features.bin, features.idx and spool.meta. Without end_layer(), one layer:
+    /// meta.fids_unique says whether its FIDs serve as engine ids.
     SpoolMeta finish();
 
 private:

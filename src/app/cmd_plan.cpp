@@ -130,6 +130,10 @@ private:
         if (m_run_dir.empty()) {
             throw argument_error("missing RUN_DIR: trisnap plan IN RUN_DIR --tolerance T");
         }
+        if (m_args.layers.size() > 1) {
+            throw argument_error("trisnap plan takes one --layer: a cluster run snaps one layer (several layers in one "
+                                 "run are for trisnap snap)");
+        }
         if (m_num_shards && (*m_num_shards < 1 || *m_num_shards > 1000000)) {
             throw argument_error(fmt::format("--num-shards must be in 1..1000000, got {}", *m_num_shards));
         }

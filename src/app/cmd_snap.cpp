@@ -54,7 +54,11 @@ int deliver_run(const SnapArgs& args, const Plan& plan, const RunResult& result,
 {
     if (!args.problems_layer.empty()) {
         const bool update = args.overwrite || args.update || args.append;
-        write_problems_layer(args.problems_layer, result.problems, plan.layer->GetSpatialRef(), update);
+        std::vector<std::string> names; // several layers: each problem says whose FID it carries
+        for (std::size_t k = 0; plan.layers.size() > 1 && k < plan.layers.size(); ++k) {
+            names.push_back(plan.layers[k]->GetName());
+        }
+        write_problems_layer(args.problems_layer, result.problems, plan.layer->GetSpatialRef(), update, names);
     }
     if (args.quiet == 0) {
         print_summary(is_stdout_path(plan.write.path) ? std::cerr : std::cout, plan, result, total_seconds);

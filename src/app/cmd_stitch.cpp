@@ -156,7 +156,7 @@ private:
         SnapArgs args = m_args;
         const SnapArgs& planned = dir.input_args();
         args.input = planned.input;
-        args.layer = planned.layer;
+        args.layers = planned.layers;
         args.where = planned.where;
         args.bbox = planned.bbox;
         args.open_options = planned.open_options;
@@ -171,8 +171,8 @@ private:
         if (!phases.load_read()) {
             throw argument_error(dir.path() + ": the plan did not finish (no read.bin); run trisnap plan again");
         }
-        plan.write.renumber = phases.result().fids_renumbered;
-        LayerWriter writer(plan.write, *plan.layer);
+        plan.write.renumber = renumbered_layers(phases.result());
+        LayerWriter writer(plan.write, plan.layers);
         phases.open_tiles();
         const auto snap_start = Clock::now();
         phases.spool();

@@ -47,9 +47,13 @@ private:
         std::int64_t vertices = -1;
         std::int64_t features = -1;
         if (plan.feature_count >= 0) {
-            const LayerInfo counted = scan_layers(*plan.dataset, plan.layer).at(0);
-            vertices = counted.vertices;
-            features = counted.features;
+            vertices = 0;
+            features = 0;
+            for (OGRLayer* layer : plan.layers) { // several layers are one engine run
+                const LayerInfo counted = scan_layers(*plan.dataset, layer).at(0);
+                vertices += counted.vertices;
+                features += counted.features;
+            }
         }
         const EstimateSettings settings = estimate_settings(config);
         const RunEstimate e = estimate_run(estimate_input(plan.input_path, vertices, features), settings);
@@ -72,7 +76,10 @@ private:
         if (plan.feature_count < 0) {
             return;
         }
-        const std::size_t small = count_smaller_than(*plan.layer, plan.tolerance);
+        std::size_t small = 0;
+        for (OGRLayer* layer : plan.layers) {
+            small += count_smaller_than(*layer, plan.tolerance);
+        }
         const auto features = static_cast<std::size_t>(plan.feature_count);
         check_collapse(plan, small, features, true);
         std::cout << fmt::format("collapse:  at least {} of {} features vanish (smaller than the tolerance)\n",

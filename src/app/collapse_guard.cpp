@@ -43,7 +43,7 @@ void check_collapse(const Plan& plan, std::size_t dropped, std::size_t features,
                   : fmt::format("snapping would drop {} of {} features (collapsed)", dropped, features);
     const std::string outcome = predicted ? "Stopped; --allow-collapse (or --force) runs it anyway"
                                           : "Nothing was written; --allow-collapse (or --force) writes it anyway";
-    throw argument_error(fmt::format("{} (layer '{}'): {}; {}. {}", plan.input_path, plan.layer->GetName(), what,
+    throw argument_error(fmt::format("{}: {}; {}. {}", input_label(plan), what,
                                      collapse_advice(plan.tolerance, from_metres(plan), *plan.layer), outcome));
 }
 

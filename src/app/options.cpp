@@ -17,7 +17,9 @@ void add_input_options(CLI::App& c, SnapArgs& a)
 {
     c.add_option("IN", a.input, "input vector dataset or GDAL connection string (GPKG, Shapefile, FlatGeobuf, "
                                 "GeoJSON, .osm.pbf, /vsizip/..., PG:...)");
-    c.add_option("--layer", a.layer, "input layer (default: the only polygon/line layer)");
+    c.add_option("--layer", a.layers, "input layer (default: the only polygon/line layer); repeat it to snap "
+                                      "several layers together, each to its own output layer")
+        ->allow_extra_args(false); // one name per --layer: `--layer a IN OUT` must not take IN and OUT
     c.add_option("--oo", a.open_options, "input open option K=V (repeatable), as ogr2ogr -oo");
     c.add_option("--where", a.where, "attribute filter (OGR SQL WHERE clause; also -where)");
     c.add_option("--bbox", a.bbox, "spatial filter xmin,ymin,xmax,ymax in layer units (also -spat xmin ymin xmax ymax)");

@@ -14,7 +14,9 @@ namespace trisnap {
 struct SnapArgs {
     std::string input;
     std::string output;
-    std::string layer;
+    /// --layer, repeatable: the layers snapped together in one triangulation, each written to
+    /// its own output layer (none: the only polygon/line layer).
+    std::vector<std::string> layers;
     std::string report;
     std::string format;
     std::string new_layer_name; ///< -nln

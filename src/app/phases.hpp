@@ -28,6 +28,17 @@ struct RecordEntry {
 
 inline const char* const k_records_file = "records.bin";
 
+/// What the read phase found in one input layer. records.bin holds the layers one after the
+/// other, in --layer order: the first `records` entries are layer 0's, and so on.
+struct LayerRead {
+    std::uint64_t records = 0;        ///< features read (after --where/--bbox)
+    std::uint64_t rejected = 0;       ///< not given to the engine and not written (NaN/inf)
+    std::uint64_t input_vertices = 0; ///< of the snapped features
+    std::uint64_t snapped = 0;        ///< given to the engine
+    std::uint64_t problems = 0;       ///< its problems: a consecutive run of ReadSummary::problems
+    bool fids_unique = true;          ///< its FIDs are unique within it: its output keeps them
+};
+
 /// What the read phase leaves for the rest of the run (kept in the store as read.bin).
 struct ReadSummary {
     std::size_t records = 0;        ///< features read (after --where/--bbox)
@@ -35,20 +46,22 @@ struct ReadSummary {
     std::size_t input_vertices = 0; ///< of the snapped features, as GDAL counts them
     std::vector<Problem> problems;  ///< found while reading and cleaning (input FIDs)
     stitch::SpoolMeta meta;
+    std::vector<LayerRead> layers;  ///< per input layer, in --layer order
 };
 
-/// Reads the layer once (geometries only; attributes are read again when writing) into
-/// features.bin and records.bin (each input feature's FID, what happened to it, and its type).
-/// Throws io_error for an empty layer or selection.
+/// Reads the layers once, one after the other (geometries only; attributes are read again when
+/// writing) into features.bin and records.bin (each input feature's FID, what happened to it,
+/// and its type); input positions run on across layers. Throws io_error when nothing is read.
 ReadSummary read_layer(Plan& plan, tiling::WorkStore& store, std::size_t sample_cap, std::size_t fid_buffer,
                        Progress& progress, const InterruptGuard& interrupt);
 
 /// The read phase's summary from an earlier run of this work directory (false: it did not finish).
 bool load_read(const tiling::WorkStore& store, ReadSummary& out);
 
-/// Reads the layer again in step with records.bin and the stitched features, and writes every
-/// feature in input order through `writer` (attributes and FIDs kept, geometry replaced by the
-/// snapped one). Fills written/dropped/unwritable and appends the features' problems.
+/// Reads the layers again in step with records.bin and the stitched features, and writes every
+/// feature in input order through `writer`, layer k to the writer's layer k (attributes and
+/// FIDs kept, geometry replaced by the snapped one). Fills written/dropped/unwritable, in total
+/// and per layer, and appends the features' problems.
 void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerger& merger, LayerWriter& writer,
                  RunResult& result, Progress& progress, const InterruptGuard& interrupt);
 

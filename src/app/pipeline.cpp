@@ -40,7 +40,30 @@ nlohmann::json input_files(const Plan& plan)
     return files;
 }
 
+// The layer's name, or (several layers) their names in order: a resume with other layers, or
+// the same in another order, is another run.
+nlohmann::ordered_json layer_list(const Plan& plan)
+{
+    if (plan.layers.size() == 1) {
+        return plan.layer->GetName();
+    }
+    nlohmann::ordered_json names = nlohmann::ordered_json::array();
+    for (OGRLayer* layer : plan.layers) {
+        names.push_back(layer->GetName());
+    }
+    return names;
+}
+
 } // namespace
+
+std::vector<bool> renumbered_layers(const RunResult& result)
+{
+    std::vector<bool> renumber;
+    for (const LayerCounts& c : result.layers) {
+        renumber.push_back(c.fids_renumbered);
+    }
+    return renumber;
+}
 
 RunResult run_pipeline(Plan& plan, WorkDir& work, const RunBudget& budget, Progress& progress)
 {
@@ -48,8 +71,8 @@ RunResult run_pipeline(Plan& plan, WorkDir& work, const RunBudget& budget, Progr
     phases.read(plan);
     // The output is created now, before any snapping: a layer or field the driver refuses stops
     // the run before the long part.
-    plan.write.renumber = phases.result().fids_renumbered;
-    LayerWriter writer(plan.write, *plan.layer);
+    plan.write.renumber = renumbered_layers(phases.result());
+    LayerWriter writer(plan.write, plan.layers);
     phases.open_tiles();
     const auto snap_start = Clock::now();
     phases.spool();
@@ -98,7 +121,7 @@ std::string run_manifest(const Plan& plan)
     nlohmann::ordered_json m = {
         {"tool", "trisnap"},
         {"version", k_version},
-        {"input", {{"path", plan.input_path}, {"files", input_files(plan)}, {"layer", plan.layer->GetName()},
+        {"input", {{"path", plan.input_path}, {"files", input_files(plan)}, {"layer", layer_list(plan)},
                    {"where", plan.layer->GetAttrQueryString() ? plan.layer->GetAttrQueryString() : ""},
                    {"bbox", plan.bbox}}},
         {"snap", {{"tolerance", fmt::format("{:a}", o.tolerance)}, {"edge_separation", o.edge_separation},

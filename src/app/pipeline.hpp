@@ -33,8 +33,22 @@ struct PhaseRecord {
     std::uint64_t peak_rss = 0;
 };
 
+/// One input layer's share of a run, with the same accounting:
+/// input == written + rejected + dropped + unwritable.
+struct LayerCounts {
+    std::size_t input = 0;
+    std::size_t written = 0;
+    std::size_t rejected = 0;
+    std::size_t dropped = 0;
+    std::size_t unwritable = 0;
+    std::size_t snapped = 0;
+    std::size_t input_vertices = 0;
+    bool fids_renumbered = false; ///< its FIDs were missing or duplicated within it: orig_fid
+};
+
 struct RunResult {
-    std::vector<Problem> problems; ///< feature_id is the input FID; sorted by FID, then code
+    /// feature_id is the input FID of input layer `layer`; sorted by layer, FID, then code
+    std::vector<Problem> problems;
     std::size_t input = 0;
     std::size_t written = 0;
     std::size_t rejected = 0;      ///< not given to the engine (NaN/inf coordinates)
@@ -42,7 +56,8 @@ struct RunResult {
     std::size_t unwritable = 0;    ///< the driver refused them
     std::size_t snapped = 0;       ///< given to the engine
     std::size_t input_vertices = 0;
-    bool fids_renumbered = false;  ///< input FIDs were missing or duplicated
+    bool fids_renumbered = false;  ///< input FIDs were missing or duplicated (in any layer)
+    std::vector<LayerCounts> layers; ///< per input layer, in --layer order (one: the totals above)
     SnapStats stats;
     bool tiled = false;
     std::vector<stitch::TileReport> tiles; ///< executed tiles, by group
@@ -57,6 +72,9 @@ struct RunResult {
     bool resumed = false;
     double seconds_open = 0;       ///< opening the input and checking the plan
 };
+
+/// Per input layer: its FIDs are unusable in the output (WriteOptions::renumber).
+std::vector<bool> renumbered_layers(const RunResult& result);
 
 /// Runs the plan. Throws io_error for I/O failures and an empty selection, argument_error when
 /// the memory limit is too small (naming the feature or tile and the smallest limit that works).

@@ -83,14 +83,15 @@ WriteOptions write_options(const SnapArgs& args)
     return w;
 }
 
-/// What the pipeline would refuse after reading everything: refuse it before reading.
+/// What the pipeline would refuse after reading everything: refuse it before reading. With
+/// several layers, only when none has a feature (an empty one is written empty).
 void check_not_empty(const Plan& plan)
 {
     if (plan.feature_count != 0) {
         return;
     }
     const bool filtered = plan.layer->GetAttrQueryString() || plan.layer->GetSpatialFilter();
-    throw io_error(plan.input_path, plan.layer->GetName(),
+    throw io_error(input_label(plan), "",
                    filtered ? "no feature matches --where/--bbox: nothing to snap" : "the layer is empty: nothing to snap");
 }
 
@@ -114,15 +115,40 @@ bool problems_beside_output(const SnapArgs& args, const Plan& plan)
 {
     namespace fs = std::filesystem;
     const bool updates = args.overwrite || args.update || args.append;
-    const std::string name = plan.write.layer_name.empty() ? plan.layer->GetName() : plan.write.layer_name;
-    return updates && plan.output_driver == "GPKG" && name != "problems" && !args.problems_layer.empty() &&
+    bool named_problems = false;
+    for (std::size_t k = 0; k < plan.layers.size(); ++k) {
+        named_problems = named_problems || output_layer_name(plan, k) == "problems";
+    }
+    return updates && plan.output_driver == "GPKG" && !named_problems && !args.problems_layer.empty() &&
            fs::weakly_canonical(args.problems_layer) == fs::weakly_canonical(plan.write.path);
+}
+
+/// Several layers go to one OUT, a layer each under its own name.
+void check_several_outputs(const SnapArgs& args, const Plan& plan, GDALDriver& driver)
+{
+    if (plan.layers.size() < 2) {
+        return;
+    }
+    if (!args.new_layer_name.empty()) {
+        throw argument_error("-nln " + args.new_layer_name + ": it names one output layer, and " +
+                             std::to_string(plan.layers.size()) + " layers were given (" + layers_label(plan) +
+                             "); each is written to a layer of its own name in OUT");
+    }
+    if (!holds_layers(driver)) {
+        throw argument_error(args.output + ": the " + std::string(driver.GetDescription()) + " format holds one layer per " +
+                             "file, and " + layers_label(plan) + " go to one OUT; write them to a format that holds " +
+                             "several, e.g. " + std::filesystem::path(args.output).stem().string() + ".gpkg");
+    }
 }
 
 void check_outputs(const SnapArgs& args, Plan& plan, GDALDriver& driver)
 {
-    probe_output(driver, plan.write, *plan.layer);
-    check_update_target(plan.write, driver, *plan.layer);
+    check_several_outputs(args, plan, driver);
+    plan.write.renamable = plan.layers.size() == 1;
+    for (OGRLayer* layer : plan.layers) {
+        probe_output(driver, plan.write, *layer);
+        check_update_target(plan.write, driver, *layer);
+    }
     check_report_path(args.report);
     if (!args.problems_layer.empty()) {
         check_problems_layer_path(args.problems_layer, args.overwrite, args.update || args.append);
@@ -131,18 +157,58 @@ void check_outputs(const SnapArgs& args, Plan& plan, GDALDriver& driver)
     check_distinct({{"OUT", plan.write.path}, {"--report", args.report}, {"--problems-layer", problems}});
 }
 
-/// The input half of a plan: the dataset, the layer, its filters and its feature count.
+/// --layer given more than once: distinct layers of one CRS, not from an OSM file (its driver
+/// reads one layer at a time, interleaved).
+std::vector<OGRLayer*> several_layers(const SnapArgs& args, GDALDataset& dataset, const std::string& driver)
+{
+    if (driver == "OSM") {
+        throw argument_error(args.input + ": one --layer at a time from an OSM file (its driver reads the layers "
+                             "interleaved); snap " + args.layers[0] + " and " + args.layers[1] + " in separate runs");
+    }
+    std::vector<OGRLayer*> layers;
+    for (std::size_t k = 0; k < args.layers.size(); ++k) {
+        for (std::size_t j = 0; j < k; ++j) {
+            if (args.layers[j] == args.layers[k]) {
+                throw argument_error("--layer " + args.layers[k] + " is given twice; name each layer once");
+            }
+        }
+        layers.push_back(&select_layer(dataset, args.input, args.layers[k]));
+    }
+    const OGRSpatialReference* first = layers[0]->GetSpatialRef();
+    for (std::size_t k = 1; k < layers.size(); ++k) {
+        const OGRSpatialReference* crs = layers[k]->GetSpatialRef();
+        const bool same = (first == nullptr && crs == nullptr) || (first && crs && first->IsSame(crs));
+        if (!same) {
+            throw argument_error(fmt::format("--layer {} and --layer {} have different CRSs ({}: {}; {}: {}): layers "
+                                             "snapped together need one; reproject one first (ogr2ogr -t_srs)",
+                                             args.layers[0], args.layers[k], args.layers[0], describe_crs(first),
+                                             args.layers[k], describe_crs(crs)));
+        }
+    }
+    return layers;
+}
+
+/// The input half of a plan: the dataset, the layers, their filters and feature counts.
 void open_layer(const SnapArgs& args, Plan& plan)
 {
     plan.input_path = args.input;
     check_key_values(args.open_options, "--oo");
     plan.dataset = open_input(args.input, args.open_options);
     plan.input_driver = plan.dataset->GetDriverName();
-    plan.layer = &select_layer(*plan.dataset, args.input, args.layer);
+    if (args.layers.size() > 1) {
+        plan.layers = several_layers(args, *plan.dataset, plan.input_driver);
+    } else {
+        plan.layers = {&select_layer(*plan.dataset, args.input, args.layers.empty() ? "" : args.layers[0])};
+    }
+    plan.layer = plan.layers.front();
     plan.crs = describe_crs(plan.layer->GetSpatialRef());
-    apply_filters(args, *plan.layer);
-    if (plan.input_driver != "OSM") {
-        plan.feature_count = plan.layer->GetFeatureCount(TRUE);
+    plan.feature_count = plan.input_driver == "OSM" ? -1 : 0;
+    for (OGRLayer* layer : plan.layers) {
+        apply_filters(args, *layer);
+        plan.feature_counts.push_back(plan.input_driver == "OSM" ? -1 : layer->GetFeatureCount(TRUE));
+        if (plan.feature_count >= 0) {
+            plan.feature_count += plan.feature_counts.back();
+        }
     }
     check_not_empty(plan);
 }
@@ -246,18 +312,46 @@ Plan make_input_plan(const SnapArgs& args, const Config& config)
     return plan;
 }
 
+std::string output_layer_name(const Plan& plan, std::size_t k)
+{
+    return plan.write.layer_name.empty() ? plan.layers[k]->GetName() : plan.write.layer_name;
+}
+
+std::string layers_label(const Plan& plan)
+{
+    std::string names;
+    for (OGRLayer* layer : plan.layers) {
+        names += fmt::format("{}'{}'", names.empty() ? "" : ", ", layer->GetName());
+    }
+    return (plan.layers.size() > 1 ? "layers " : "layer ") + names;
+}
+
+std::string input_label(const Plan& plan)
+{
+    return plan.input_path + " (" + layers_label(plan) + ")";
+}
+
 void print_plan(const Plan& plan, std::ostream& out)
 {
     const std::string count = plan.feature_count < 0 ? "features unknown until read" : count_of(plan.feature_count, "feature");
-    out << fmt::format("input:     {} ({}), layer '{}', {}, CRS {}\n", plan.input_path,
-                       plan.input_driver, plan.layer->GetName(), count, plan.crs);
+    if (plan.layers.size() > 1) {
+        std::string each;
+        for (std::size_t k = 0; k < plan.layers.size(); ++k) {
+            each += fmt::format("{}'{}' ({})", k ? ", " : "", plan.layers[k]->GetName(), count_of(plan.feature_counts[k], "feature"));
+        }
+        out << fmt::format("input:     {} ({}), layers {}, {} in all, snapped together, CRS {}\n", plan.input_path,
+                           plan.input_driver, each, count, plan.crs);
+    } else {
+        out << fmt::format("input:     {} ({}), layer '{}', {}, CRS {}\n", plan.input_path,
+                           plan.input_driver, plan.layer->GetName(), count, plan.crs);
+    }
     out << fmt::format("tolerance: {} ({})\n", plan.tolerance, plan.tolerance_note);
     out << fmt::format("engine:    edge_separation {}, sliver_factor {}, grid {}, max_drift_factor {}\n",
                        plan.options.edge_separation, plan.options.sliver_factor, plan.options.grid,
                        plan.options.max_drift_factor);
-    const std::string name = plan.write.layer_name.empty() ? plan.layer->GetName() : plan.write.layer_name;
-    out << fmt::format("output:    {} ({}), layer '{}', FIDs {}\n", plan.write.path, plan.output_driver,
-                       name, plan.keeps_fids ? "kept" : "in field orig_fid");
+    const std::string names = plan.layers.size() > 1 ? layers_label(plan) : "layer '" + output_layer_name(plan, 0) + "'";
+    out << fmt::format("output:    {} ({}), {}, FIDs {}\n", plan.write.path, plan.output_driver, names,
+                       plan.keeps_fids ? "kept" : "in field orig_fid");
     if (plan.tiling.plan.single)
         out << "tiling:    none (one triangulation)\n";
     else

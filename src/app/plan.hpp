@@ -13,13 +13,18 @@
 
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 namespace trisnap {
 
 struct Plan {
     Config config;
     GDALDatasetUniquePtr dataset;
-    OGRLayer* layer = nullptr;
+    OGRLayer* layer = nullptr;        ///< the first (or only) input layer: the tolerance is resolved on it
+    /// Every input layer in --layer order (layers[0] == layer): one engine run, one output
+    /// layer each. Several only in the same CRS, never from an OSM file.
+    std::vector<OGRLayer*> layers;
+    std::vector<std::int64_t> feature_counts; ///< per layer, after filters; -1 when unknown
     std::string input_path;
     std::string input_driver;
     std::string crs;
@@ -48,6 +53,15 @@ SnapOptions engine_options(const Config& config, double tolerance);
 
 /// The tiling options from the settings ([tiling], and [run] threads).
 stitch::TilingOptions tiling_options(const Config& config);
+
+/// The output layer of input layer `k`: -nln (one layer only), else the input layer's name.
+std::string output_layer_name(const Plan& plan, std::size_t k);
+
+/// "layer 'a'", or "layers 'a', 'b'" with several: for messages about the whole input.
+std::string layers_label(const Plan& plan);
+
+/// "IN (layer 'a')" or "IN (layers 'a', 'b')": where an error about the whole input happened.
+std::string input_label(const Plan& plan);
 
 /// Human-readable plan (the output of `validate`).
 void print_plan(const Plan& plan, std::ostream& out);

@@ -62,7 +62,64 @@ void save_read(tiling::WorkStore& store, const ReadSummary& s)
         tiling::put_problem(w, p);
     }
     s.meta.save(w);
+    // The layers last: their problems are consecutive runs of the list above (put_problem
+    // does not store the layer).
+    w.put<std::uint64_t>(s.layers.size());
+    for (const LayerRead& l : s.layers) {
+        for (std::uint64_t v : {l.records, l.rejected, l.input_vertices, l.snapped, l.problems}) {
+            w.put<std::uint64_t>(v);
+        }
+        w.put<std::uint8_t>(l.fids_unique ? 1 : 0);
+    }
     store.put(k_read, bytes);
+}
+
+/// What one layer's read goes into.
+struct ReadTarget {
+    ReadSummary& summary;
+    stitch::FeatureSpool& spool;
+    tiling::OutFile& records;
+    Progress& progress;
+    const InterruptGuard& interrupt;
+};
+
+// One layer, in input order; its problems are tagged with its index `k`.
+void read_features(LayerReader& reader, std::uint32_t k, ReadTarget& to)
+{
+    ReadSummary& s = to.summary;
+    LayerRead& layer = s.layers.emplace_back();
+    const std::size_t first_problem = s.problems.size();
+    char entry[RecordEntry::k_bytes];
+    while (auto feature = reader.next()) {
+        to.interrupt.check();
+        if (feature->problem) {
+            s.problems.push_back(*feature->problem);
+        }
+        RecordEntry e{feature->fid, RecordEntry::pass, static_cast<std::uint32_t>(feature->input_type)};
+        if (feature->rejected) {
+            e.verdict = RecordEntry::rejected;
+            ++layer.rejected;
+            to.spool.skip(feature->fid);
+        } else if (feature->geometry) {
+            e.verdict = RecordEntry::snap;
+            layer.input_vertices += vertices_of(*feature->geometry);
+            ++layer.snapped;
+            to.spool.add(s.records, feature->fid, *feature->geometry, s.problems);
+        } else {
+            to.spool.skip(feature->fid);
+        }
+        e.encode(entry);
+        to.records.write(std::string_view(entry, sizeof entry));
+        ++s.records;
+        ++layer.records;
+        to.progress.update(static_cast<std::int64_t>(s.records));
+    }
+    for (std::size_t i = first_problem; i < s.problems.size(); ++i) {
+        s.problems[i].layer = k;
+    }
+    layer.problems = s.problems.size() - first_problem;
+    s.rejected += layer.rejected;
+    s.input_vertices += layer.input_vertices;
 }
 
 } // namespace
@@ -72,40 +129,29 @@ ReadSummary read_layer(Plan& plan, tiling::WorkStore& store, std::size_t sample_
 {
     ReadSummary s;
     {
-        const IgnoredAttributes ignored(*plan.layer);
-        LayerReader reader(*plan.dataset, *plan.layer);
         stitch::FeatureSpool spool(store, plan.options.tolerance, sample_cap, fid_buffer);
         const std::unique_ptr<tiling::OutFile> records = store.create(k_records_file);
-        progress.start("plan", plan.feature_count >= 0 ? plan.feature_count : reader.count_hint());
-        char entry[RecordEntry::k_bytes];
-        while (auto feature = reader.next()) {
-            interrupt.check();
-            if (feature->problem) {
-                s.problems.push_back(*feature->problem);
+        ReadTarget to{s, spool, *records, progress, interrupt};
+        for (std::size_t k = 0; k < plan.layers.size(); ++k) {
+            const IgnoredAttributes ignored(*plan.layers[k]);
+            LayerReader reader(*plan.dataset, *plan.layers[k]);
+            if (k == 0) {
+                progress.start("plan", plan.feature_count >= 0 ? plan.feature_count : reader.count_hint());
             }
-            RecordEntry e{feature->fid, RecordEntry::pass, static_cast<std::uint32_t>(feature->input_type)};
-            if (feature->rejected) {
-                e.verdict = RecordEntry::rejected;
-                ++s.rejected;
-                spool.skip(feature->fid);
-            } else if (feature->geometry) {
-                e.verdict = RecordEntry::snap;
-                s.input_vertices += vertices_of(*feature->geometry);
-                spool.add(s.records, feature->fid, *feature->geometry, s.problems);
-            } else {
-                spool.skip(feature->fid);
+            read_features(reader, static_cast<std::uint32_t>(k), to);
+            if (plan.layers.size() > 1) {
+                s.layers.back().fids_unique = spool.end_layer();
             }
-            e.encode(entry);
-            records->write(std::string_view(entry, sizeof entry));
-            ++s.records;
-            progress.update(static_cast<std::int64_t>(s.records));
         }
         progress.finish();
         records->commit();
         s.meta = spool.finish();
+        if (plan.layers.size() == 1) {
+            s.layers[0].fids_unique = s.meta.fids_unique;
+        }
     }
     if (s.records == 0) {
-        throw io_error(plan.input_path, plan.layer->GetName(),
+        throw io_error(input_label(plan), "",
                        plan.layer->GetAttrQueryString() || plan.layer->GetSpatialFilter()
                            ? "no feature matches --where/--bbox: nothing to snap"
                            : "the layer is empty: nothing to snap");
@@ -129,6 +175,23 @@ bool load_read(const tiling::WorkStore& store, ReadSummary& out)
         p = tiling::get_problem(r);
     }
     out.meta = stitch::SpoolMeta::load(r);
+    if (r.done()) { // written before read.bin held its layers: one layer
+        out.layers = {LayerRead{out.records, out.rejected, out.input_vertices, out.meta.spooled, out.problems.size(),
+                                out.meta.fids_unique}};
+        return true;
+    }
+    out.layers.resize(r.get<std::uint64_t>());
+    std::size_t next_problem = 0;
+    for (std::size_t k = 0; k < out.layers.size(); ++k) {
+        LayerRead& l = out.layers[k];
+        for (std::uint64_t* v : {&l.records, &l.rejected, &l.input_vertices, &l.snapped, &l.problems}) {
+            *v = r.get<std::uint64_t>();
+        }
+        l.fids_unique = r.get<std::uint8_t>() != 0;
+        for (std::size_t i = 0; i < l.problems && next_problem < out.problems.size(); ++i) {
+            out.problems[next_problem++].layer = static_cast<std::uint32_t>(k);
+        }
+    }
     return true;
 }
 

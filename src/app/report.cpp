@@ -101,12 +101,44 @@ ordered_json tiling_json(const RunResult& r)
 
 ordered_json coordinate(double v) { return std::isfinite(v) ? ordered_json(v) : ordered_json(nullptr); }
 
-ordered_json problems_json(const std::vector<Problem>& problems)
+// With several layers each problem says whose FID it carries ("layer" after "fid").
+ordered_json problems_json(const Plan& plan, const std::vector<Problem>& problems)
 {
     ordered_json list = ordered_json::array();
-    for (const Problem& p : problems)
-        list.push_back({{"fid", p.feature_id}, {"code", static_cast<int>(p.code)}, {"name", problem_name(p.code)},
-                        {"message", p.message}, {"x", coordinate(p.x)}, {"y", coordinate(p.y)}});
+    for (const Problem& p : problems) {
+        ordered_json item = {{"fid", p.feature_id}};
+        if (plan.layers.size() > 1) {
+            item["layer"] = plan.layers.at(p.layer)->GetName();
+        }
+        item.update(ordered_json{{"code", static_cast<int>(p.code)}, {"name", problem_name(p.code)},
+                                 {"message", p.message}, {"x", coordinate(p.x)}, {"y", coordinate(p.y)}});
+        list.push_back(std::move(item));
+    }
+    return list;
+}
+
+const char* fids_kept(const Plan& plan, bool renumbered)
+{
+    return plan.keeps_fids && !renumbered ? "kept" : "orig_fid";
+}
+
+// Several layers: each one's name, output layer, FIDs and accounting.
+ordered_json layers_json(const Plan& plan, const RunResult& r)
+{
+    ordered_json list = ordered_json::array();
+    for (std::size_t k = 0; k < r.layers.size(); ++k) {
+        const LayerCounts& c = r.layers[k];
+        std::size_t problems = 0;
+        for (const Problem& p : r.problems) {
+            problems += p.layer == k ? 1 : 0;
+        }
+        list.push_back({{"name", plan.layers[k]->GetName()}, {"output_layer", output_layer_name(plan, k)},
+                        {"fids", fids_kept(plan, c.fids_renumbered)},
+                        {"counts", {{"input", c.input}, {"written", c.written}, {"snapped", c.snapped},
+                                    {"rejected", c.rejected}, {"dropped", c.dropped}, {"unwritable", c.unwritable},
+                                    {"problems", problems}, {"input_vertices", c.input_vertices},
+                                    {"fids_renumbered", c.fids_renumbered}}}});
+    }
     return list;
 }
 
@@ -118,13 +150,25 @@ ordered_json by_code_json(const std::vector<Problem>& problems)
     return out;
 }
 
+// One layer: its name; several: their names in order (the output layers have the same).
+ordered_json names_json(const Plan& plan, bool output)
+{
+    if (plan.layers.size() == 1) {
+        return output ? output_layer_name(plan, 0) : std::string(plan.layer->GetName());
+    }
+    ordered_json names = ordered_json::array();
+    for (std::size_t k = 0; k < plan.layers.size(); ++k) {
+        names.push_back(output ? output_layer_name(plan, k) : std::string(plan.layers[k]->GetName()));
+    }
+    return names;
+}
+
 ordered_json io_json(const Plan& plan, const RunResult& r)
 {
-    const std::string out_layer = plan.write.layer_name.empty() ? plan.layer->GetName() : plan.write.layer_name;
-    return {{"input", {{"path", plan.input_path}, {"driver", plan.input_driver}, {"layer", plan.layer->GetName()},
+    return {{"input", {{"path", plan.input_path}, {"driver", plan.input_driver}, {"layer", names_json(plan, false)},
                        {"crs", plan.crs}, {"features", r.input}}},
-            {"output", {{"path", plan.write.path}, {"driver", plan.output_driver}, {"layer", out_layer},
-                        {"fids", plan.keeps_fids && !r.fids_renumbered ? "kept" : "orig_fid"},
+            {"output", {{"path", plan.write.path}, {"driver", plan.output_driver}, {"layer", names_json(plan, true)},
+                        {"fids", fids_kept(plan, r.fids_renumbered)},
                         {"features", r.written}}}};
 }
 
@@ -150,13 +194,16 @@ std::string report_text(const Plan& plan, const RunResult& result, double total_
     report.update(io_json(plan, result));
     report["config"] = config_json(plan);
     report["counts"] = counts_json(result);
+    if (plan.layers.size() > 1) {
+        report["layers"] = layers_json(plan, result);
+    }
     report["engine"] = stats_json(result.stats);
     report["timings_s"] = timings_json(result, total_seconds);
     report["peak_memory_mb"] = peak_memory_mb();
     report["memory"] = memory_json(result);
     report["tiling"] = tiling_json(result);
     report["problems_by_code"] = by_code_json(result.problems);
-    report["problems"] = problems_json(result.problems);
+    report["problems"] = problems_json(plan, result.problems);
     return report.dump(2, ' ', false, ordered_json::error_handler_t::replace) + "\n";
 }
 
@@ -171,6 +218,12 @@ void print_summary(std::ostream& out, const Plan& plan, const RunResult& r, doub
     const std::size_t not_written = r.input - r.written;
     out << fmt::format("{} in, {} written, {} not written ({} rejected on input, {} dropped by the engine, {} refused by the driver)\n",
                        count_of(r.input, "feature"), r.written, not_written, r.rejected, r.dropped, r.unwritable);
+    for (std::size_t k = 0; plan.layers.size() > 1 && k < r.layers.size(); ++k) {
+        const LayerCounts& c = r.layers[k];
+        out << fmt::format("  layer '{}': {} in, {} written, {} not written ({} rejected, {} dropped, {} refused)\n",
+                           plan.layers[k]->GetName(), c.input, c.written, c.input - c.written, c.rejected, c.dropped,
+                           c.unwritable);
+    }
     std::string codes;
     for (const auto& [code, n] : count_by_code(r.problems))
         codes += fmt::format("{}{} {} x{}", codes.empty() ? "" : ", ", code,

@@ -48,7 +48,7 @@ std::string cluster_manifest(const Plan& plan, const SnapArgs& args)
     nlohmann::ordered_json m = nlohmann::ordered_json::parse(run_manifest(plan));
     m["cluster"] = {
         {"input", args.input},
-        {"layer", args.layer},
+        {"layer", args.layers.empty() ? std::string() : args.layers.front()}, // plan refuses several
         {"where", args.where},
         {"bbox", args.bbox.value_or("")},
         {"open_options", args.open_options},
@@ -92,7 +92,9 @@ void RunDir::load_manifest()
     try {
         const nlohmann::json& c = m.at("cluster");
         m_args.input = text_of(c, "input");
-        m_args.layer = text_of(c, "layer");
+        if (std::string layer = text_of(c, "layer"); !layer.empty()) {
+            m_args.layers = {layer};
+        }
         m_args.where = text_of(c, "where");
         if (std::string bbox = text_of(c, "bbox"); !bbox.empty()) {
             m_args.bbox = bbox;

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
 
 namespace trisnap {
 namespace {
@@ -103,7 +104,17 @@ void RunPhases::take_read(ReadSummary& summary)
     m_result.rejected = summary.rejected;
     m_result.input_vertices = summary.input_vertices;
     m_result.snapped = summary.meta.spooled;
-    m_result.fids_renumbered = !summary.meta.fids_unique;
+    m_result.fids_renumbered = false;
+    m_result.layers.clear();
+    for (const LayerRead& l : summary.layers) {
+        LayerCounts& c = m_result.layers.emplace_back();
+        c.input = l.records;
+        c.rejected = l.rejected;
+        c.snapped = l.snapped;
+        c.input_vertices = l.input_vertices;
+        c.fids_renumbered = !l.fids_unique;
+        m_result.fids_renumbered = m_result.fids_renumbered || c.fids_renumbered;
+    }
     m_result.problems = std::move(summary.problems);
     m_meta = std::move(summary.meta);
 }
@@ -252,7 +263,7 @@ RunResult& RunPhases::result() { return m_result; }
 RunResult RunPhases::finish()
 {
     std::stable_sort(m_result.problems.begin(), m_result.problems.end(), [](const Problem& a, const Problem& b) {
-        return a.feature_id != b.feature_id ? a.feature_id < b.feature_id : a.code < b.code;
+        return std::tie(a.layer, a.feature_id, a.code) < std::tie(b.layer, b.feature_id, b.code);
     });
     return std::move(m_result);
 }

@@ -46,7 +46,7 @@ public:
     void snap(const std::function<bool(std::size_t)>& mine = {});
     /// Phase "stitch": the seam check; tiles that disagree are merged and snapped again.
     void stitch();
-    /// Phase "write": the stitched features with the layer's attributes, in input order.
+    /// Phase "write": the stitched features with the layers' attributes, in input order.
     void write(Plan& plan, LayerWriter& writer);
 
     /// What an interrupt (SIGINT, SIGTERM) between features or tiles reports.
@@ -54,7 +54,7 @@ public:
 
     stitch::TiledRun& tiles();
     RunResult& result();
-    /// The result with its problems in order (by FID, then code).
+    /// The result with its problems in order (by layer, FID, then code).
     RunResult finish();
 
 private:

@@ -17,10 +17,11 @@
 namespace trisnap {
 namespace {
 
-Problem feature_problem(std::int64_t fid, ProblemCode code, std::string message)
+Problem feature_problem(std::uint32_t layer, std::int64_t fid, ProblemCode code, std::string message)
 {
     Problem p;
     p.feature_id = fid;
+    p.layer = layer;
     p.code = code;
     p.message = std::move(message);
     p.x = p.y = std::numeric_limits<double>::quiet_NaN();
@@ -62,66 +63,101 @@ public:
         : m_plan(plan), m_merger(merger), m_writer(writer), m_result(result)
     {
         for (const Problem& p : result.problems) {
-            m_reported.insert(p.feature_id);
+            m_reported.emplace(p.layer, p.feature_id);
         }
     }
-    void feature(std::size_t seq, const RecordEntry& e, OGRFeatureUniquePtr f);
-
-private:
-    [[noreturn]] void changed(const std::string& what) const
+    /// Feature `seq` (input position across all layers) of input layer `k`.
+    void feature(std::uint32_t k, std::size_t seq, const RecordEntry& e, OGRFeatureUniquePtr f);
+    [[noreturn]] void changed(std::uint32_t k, const std::string& what) const
     {
-        throw io_error(m_plan.input_path, m_plan.layer->GetName(),
+        throw io_error(m_plan.input_path, m_plan.layers[k]->GetName(),
                        "the input changed while trisnap ran (" + what + "); run again on a stable copy");
     }
-    void write(std::int64_t fid, OGRFeature& f, OGRGeometry* geometry);
+
+private:
+    void write(std::uint32_t k, std::int64_t fid, OGRFeature& f, OGRGeometry* geometry);
+    void vanished(std::uint32_t k, const RecordEntry& e);
 
     Plan& m_plan;
     stitch::OutputMerger& m_merger;
     LayerWriter& m_writer;
     RunResult& m_result;
-    std::set<std::int64_t> m_reported;
+    std::set<std::pair<std::uint32_t, std::int64_t>> m_reported; ///< (layer, FID) with a problem
     stitch::OutputItem m_item;
 };
 
-void Writer::write(std::int64_t fid, OGRFeature& f, OGRGeometry* geometry)
+void Writer::write(std::uint32_t k, std::int64_t fid, OGRFeature& f, OGRGeometry* geometry)
 {
-    if (std::string error = m_writer.write(f, fid, geometry); !error.empty()) {
+    if (std::string error = m_writer.write(k, f, fid, geometry); !error.empty()) {
         ++m_result.unwritable;
-        m_result.problems.push_back(feature_problem(fid, ProblemCode::unwritable_feature, error));
+        ++m_result.layers[k].unwritable;
+        m_result.problems.push_back(feature_problem(k, fid, ProblemCode::unwritable_feature, error));
     }
 }
 
-void Writer::feature(std::size_t seq, const RecordEntry& e, OGRFeatureUniquePtr f)
+void Writer::vanished(std::uint32_t k, const RecordEntry& e)
+{
+    ++m_result.dropped;
+    ++m_result.layers[k].dropped;
+    if (!m_reported.count({k, e.fid})) {
+        const auto type = static_cast<OGRwkbGeometryType>(e.type);
+        m_result.problems.push_back(feature_problem(k, e.fid, type == wkbPolygon || type == wkbMultiPolygon
+            ? ProblemCode::collapsed_polygon : ProblemCode::collapsed_line, "the feature vanished when snapped; not written"));
+    }
+}
+
+void Writer::feature(std::uint32_t k, std::size_t seq, const RecordEntry& e, OGRFeatureUniquePtr f)
 {
     if (f->GetFID() != e.fid) {
-        changed("feature " + std::to_string(seq + 1) + " has FID " + std::to_string(f->GetFID()) + ", was " + std::to_string(e.fid));
+        changed(k, "feature " + std::to_string(seq + 1) + " has FID " + std::to_string(f->GetFID()) + ", was " + std::to_string(e.fid));
     }
     if (e.verdict == RecordEntry::rejected) {
         return;
     }
     if (e.verdict == RecordEntry::pass) {
         OGRGeometry* g = f->StealGeometry();
-        write(e.fid, *f, g);
+        write(k, e.fid, *f, g);
         return;
     }
     if (!m_merger.next(m_item) || m_item.seq != seq) {
-        changed("the stitched features do not line up with the input");
+        changed(k, "the stitched features do not line up with the input");
     }
     for (Problem& p : m_item.problems) {
-        m_reported.insert(p.feature_id);
+        p.layer = k;
+        m_reported.emplace(k, p.feature_id);
         m_result.problems.push_back(std::move(p));
     }
     if (m_item.output.geometry.empty()) {
-        ++m_result.dropped;
-        if (!m_reported.count(e.fid)) {
-            const auto type = static_cast<OGRwkbGeometryType>(e.type);
-            m_result.problems.push_back(feature_problem(e.fid, type == wkbPolygon || type == wkbMultiPolygon
-                ? ProblemCode::collapsed_polygon : ProblemCode::collapsed_line, "the feature vanished when snapped; not written"));
-        }
+        vanished(k, e);
         return;
     }
     f->SetGeometryDirectly(nullptr);
-    write(e.fid, *f, to_ogr(m_item.output.geometry, static_cast<OGRwkbGeometryType>(e.type)));
+    write(k, e.fid, *f, to_ogr(m_item.output.geometry, static_cast<OGRwkbGeometryType>(e.type)));
+}
+
+/// Input layer `k` read again, in step with its `count` entries of records.bin; `seq` is the
+/// input position of its first feature, and the position after its last is returned.
+std::size_t write_features(Plan& plan, std::uint32_t k, std::size_t count, std::size_t seq, RecordLog& log,
+                           Writer& w, Progress& progress, const InterruptGuard& interrupt)
+{
+    LayerReader reader(*plan.dataset, *plan.layers[k]);
+    RecordEntry e;
+    for (std::size_t i = 0; i < count; ++i, ++seq) {
+        if (!log.next(e)) {
+            throw tiling::work_error("damaged work file: records.bin is cut short");
+        }
+        interrupt.check();
+        OGRFeatureUniquePtr f = reader.next_raw();
+        if (!f) {
+            w.changed(k, "it now ends after " + std::to_string(i) + " features");
+        }
+        w.feature(k, seq, e, std::move(f));
+        progress.update(static_cast<std::int64_t>(seq + 1));
+    }
+    if (reader.next_raw()) {
+        w.changed(k, "it now has more than " + std::to_string(count) + " features");
+    }
+    return seq;
 }
 
 } // namespace
@@ -129,25 +165,12 @@ void Writer::feature(std::size_t seq, const RecordEntry& e, OGRFeatureUniquePtr 
 void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerger& merger, LayerWriter& writer,
                  RunResult& result, Progress& progress, const InterruptGuard& interrupt)
 {
-    LayerReader reader(*plan.dataset, *plan.layer);
     RecordLog log(store);
     Writer w(plan, merger, writer, result);
     progress.start("write", static_cast<std::int64_t>(result.input));
-    RecordEntry e;
     std::size_t seq = 0;
-    for (; log.next(e); ++seq) {
-        interrupt.check();
-        OGRFeatureUniquePtr f = reader.next_raw();
-        if (!f) {
-            throw io_error(plan.input_path, plan.layer->GetName(),
-                           "the input changed while trisnap ran (it now ends after " + std::to_string(seq) + " features)");
-        }
-        w.feature(seq, e, std::move(f));
-        progress.update(static_cast<std::int64_t>(seq + 1));
-    }
-    if (reader.next_raw()) {
-        throw io_error(plan.input_path, plan.layer->GetName(),
-                       "the input changed while trisnap ran (it now has more than " + std::to_string(seq) + " features)");
+    for (std::size_t k = 0; k < plan.layers.size(); ++k) {
+        seq = write_features(plan, static_cast<std::uint32_t>(k), result.layers[k].input, seq, log, w, progress, interrupt);
     }
     progress.finish();
     interrupt.check();
@@ -162,6 +185,9 @@ void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerge
         spdlog::warn("{}: {}", plan.write.path, line); // one line per field and kind, not per feature
     }
     result.written = writer.written();
+    for (std::size_t k = 0; k < result.layers.size(); ++k) {
+        result.layers[k].written = writer.written(k);
+    }
 }
 
 } // namespace trisnap

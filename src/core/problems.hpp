@@ -58,6 +58,11 @@ struct Problem {
     std::string message; ///< what happened, for a person
     double x = 0.0;      ///< where (layer units); NaN when there is no meaningful place
     double y = 0.0;
+    /// Which input layer feature_id belongs to, when one run snaps several layers together
+    /// (its index in the run's --layer list); 0 otherwise. The app sets it, never the engine,
+    /// and work files do not store it (a layer's problems are tagged where they are read back).
+    /// Last, so that the initialisers {id, code, message, x, y} stay valid.
+    std::uint32_t layer = 0;
 };
 
 } // namespace trisnap

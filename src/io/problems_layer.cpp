@@ -29,10 +29,14 @@ std::string driver_for(const std::string& path)
     return ext == ".geojson" || ext == ".json" ? "GeoJSON" : "";
 }
 
-void create_fields(OGRLayer& layer, const std::string& path)
+/// `layers` not empty (several input layers): a field "layer" after "fid" names each FID's layer.
+void create_fields(OGRLayer& layer, const std::string& path, const std::vector<std::string>& layers)
 {
-    const std::pair<const char*, OGRFieldType> fields[] = {
+    std::vector<std::pair<const char*, OGRFieldType>> fields = {
         {"fid", OFTInteger64}, {"code", OFTInteger}, {"name", OFTString}, {"message", OFTString}};
+    if (!layers.empty()) {
+        fields.insert(fields.begin() + 1, {"layer", OFTString});
+    }
     for (const auto& [name, type] : fields) {
         OGRFieldDefn field(name, type);
         if (layer.CreateField(&field) != OGRERR_NONE) {
@@ -41,10 +45,13 @@ void create_fields(OGRLayer& layer, const std::string& path)
     }
 }
 
-void write_problem(OGRLayer& layer, const Problem& problem, const std::string& path)
+void write_problem(OGRLayer& layer, const Problem& problem, const std::string& path, const std::vector<std::string>& layers)
 {
     OGRFeatureUniquePtr feature(OGRFeature::CreateFeature(layer.GetLayerDefn()));
     feature->SetField("fid", static_cast<GIntBig>(problem.feature_id));
+    if (!layers.empty()) {
+        feature->SetField("layer", layers.at(problem.layer).c_str());
+    }
     feature->SetField("code", static_cast<int>(problem.code));
     feature->SetField("name", problem_name(problem.code));
     feature->SetField("message", problem.message.c_str());
@@ -58,7 +65,7 @@ void write_problem(OGRLayer& layer, const Problem& problem, const std::string& p
 
 /// Layer "problems" in `dataset`; GPKG keeps its own FID column out of the way of our "fid" field.
 void fill_dataset(GDALDataset& dataset, const std::string& path, const std::vector<Problem>& problems,
-                  OGRSpatialReference* srs)
+                  OGRSpatialReference* srs, const std::vector<std::string>& layers)
 {
     ScopedErrorCapture capture;
     CPLStringList options;
@@ -69,15 +76,15 @@ void fill_dataset(GDALDataset& dataset, const std::string& path, const std::vect
     if (!layer) {
         throw io_error(path, k_layer, capture.last_error("cannot create the layer"));
     }
-    create_fields(*layer, path);
+    create_fields(*layer, path, layers);
     for (const Problem& problem : problems) {
-        write_problem(*layer, problem, path);
+        write_problem(*layer, problem, path, layers);
     }
 }
 
 /// A new file at `temp`, in one transaction.
 void write_dataset(const std::string& temp, const std::string& path, const std::vector<Problem>& problems,
-                   OGRSpatialReference* srs)
+                   OGRSpatialReference* srs, const std::vector<std::string>& layers)
 {
     GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(driver_for(path).c_str());
     ScopedErrorCapture capture;
@@ -86,7 +93,7 @@ void write_dataset(const std::string& temp, const std::string& path, const std::
         throw io_error(path, "", capture.last_error("cannot create the dataset"));
     }
     dataset->StartTransaction();
-    fill_dataset(*dataset, path, problems, srs);
+    fill_dataset(*dataset, path, problems, srs, layers);
     dataset->CommitTransaction();
     dataset.reset();
     if (!capture.errors().empty()) {
@@ -96,7 +103,8 @@ void write_dataset(const std::string& temp, const std::string& path, const std::
 
 /// An existing GeoPackage: its layer "problems" replaced (or added) in one transaction, its
 /// other layers kept; any failure rolls the transaction back.
-void update_dataset(const std::string& path, const std::vector<Problem>& problems, OGRSpatialReference* srs)
+void update_dataset(const std::string& path, const std::vector<Problem>& problems, OGRSpatialReference* srs,
+                    const std::vector<std::string>& layers)
 {
     const char* const drivers[] = {"GPKG", nullptr};
     ScopedErrorCapture capture;
@@ -111,7 +119,7 @@ void update_dataset(const std::string& path, const std::vector<Problem>& problem
                 throw io_error(path, k_layer, capture.last_error("cannot delete the layer to replace it"));
             }
         }
-        fill_dataset(*dataset, path, problems, srs);
+        fill_dataset(*dataset, path, problems, srs, layers);
         if (dataset->CommitTransaction() != OGRERR_NONE) {
             throw io_error(path, k_layer, capture.last_error("cannot commit"));
         }
@@ -161,10 +169,10 @@ void check_problems_layer_path(const std::string& path, bool overwrite, bool upd
 }
 
 void write_problems_layer(const std::string& path, const std::vector<Problem>& problems,
-                          OGRSpatialReference* srs, bool update)
+                          OGRSpatialReference* srs, bool update, const std::vector<std::string>& layers)
 {
     if (updates_gpkg(path, update)) {
-        update_dataset(path, problems, srs);
+        update_dataset(path, problems, srs, layers);
         return;
     }
     const fs::path target(path);
@@ -173,7 +181,7 @@ void write_problems_layer(const std::string& path, const std::vector<Problem>& p
     const fs::path temp = target.parent_path() / name.append(target.extension().string());
     std::error_code ec;
     try {
-        write_dataset(temp.string(), path, problems, srs);
+        write_dataset(temp.string(), path, problems, srs, layers);
     } catch (...) {
         fs::remove(temp, ec);
         throw;

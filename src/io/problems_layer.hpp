@@ -19,8 +19,11 @@ void check_problems_layer_path(const std::string& path, bool overwrite, bool upd
 /// (the input's; may be null), GeoPackage or GeoJSON by extension. Written beside `path` under
 /// a hidden name and renamed into place, so a failure leaves nothing at `path`. With `update`
 /// (--overwrite, --update, --append) an existing GeoPackage keeps its other layers: "problems"
-/// is replaced or added in one transaction, rolled back on failure. Throws io_error.
+/// is replaced or added in one transaction, rolled back on failure. With `layers` (the input
+/// layers of a run that snapped several) a field "layer" after "fid" holds the name of the
+/// layer of each problem's FID (layers[Problem::layer]). Throws io_error.
 void write_problems_layer(const std::string& path, const std::vector<Problem>& problems,
-                          OGRSpatialReference* srs, bool update = false);
+                          OGRSpatialReference* srs, bool update = false,
+                          const std::vector<std::string>& layers = {});
 
 } // namespace trisnap

@@ -125,8 +125,8 @@ void check_update_target(const WriteOptions& options, GDALDriver& driver, OGRLay
         return;
     }
     if (!options.overwrite) {
-        throw argument_error(options.path + ": has a layer '" + name +
-                             "' already; add --overwrite to replace it, --append to add to it, or -nln NAME");
+        throw argument_error(options.path + ": has a layer '" + name + "' already; add --overwrite to replace it" +
+                             (options.renamable ? ", --append to add to it, or -nln NAME" : " or --append to add to it"));
     }
 }
 

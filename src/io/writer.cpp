@@ -4,6 +4,7 @@
 #include "io/checked_files.hpp"
 #include "io/gdal_errors.hpp"
 #include "io/io_error.hpp"
+#include "io/layer_options.hpp"
 #include "io/output_driver.hpp"
 #include "io/update_target.hpp"
 
@@ -16,28 +17,6 @@
 namespace trisnap {
 namespace fs = std::filesystem;
 namespace {
-
-bool has_option(const std::vector<std::string>& options, const std::string& key)
-{
-    return std::any_of(options.begin(), options.end(), [&](const std::string& o) {
-        return o.size() > key.size() && o[key.size()] == '=' && EQUALN(o.c_str(), key.c_str(), key.size());
-    });
-}
-
-bool driver_has_layer_option(GDALDriver& driver, const std::string& key)
-{
-    const char* list = driver.GetMetadataItem(GDAL_DS_LAYER_CREATIONOPTIONLIST);
-    return list && std::string(list).find("name='" + key + "'") != std::string::npos;
-}
-
-/// Adds KEY=VALUE unless the user gave KEY, when the driver knows KEY.
-void add_default(std::vector<std::string>& options, GDALDriver& driver, const std::string& key,
-                 const std::string& value)
-{
-    if (!has_option(options, key) && driver_has_layer_option(driver, key)) {
-        options.push_back(key + "=" + value);
-    }
-}
 
 /// A field name for the original FID that does not clash with an existing field.
 std::string orig_fid_name(const OGRFeatureDefn& defn)
@@ -110,7 +89,7 @@ private:
 
 } // namespace
 
-LayerWriter::LayerWriter(const WriteOptions& options, OGRLayer& source)
+LayerWriter::LayerWriter(const WriteOptions& options, const std::vector<OGRLayer*>& sources)
     : m_options(options), m_target(options.path),
       // A streamed OUT keeps its scratch files (a driver's spool) beside the current directory.
       m_temp(is_stdout_path(options.path) ? std::filesystem::path("stdout") : m_target, options.path),
@@ -118,7 +97,6 @@ LayerWriter::LayerWriter(const WriteOptions& options, OGRLayer& source)
 {
     GDALDriver& driver = output_driver(options.path, options.format);
     m_driver_name = driver.GetDescription();
-    m_keeps_fids = driver_keeps_fids(driver) && !options.renumber;
     // GeoPackage stamps the current time into gpkg_contents; a fixed date makes bytes repeatable.
     if (!CPLGetConfigOption("OGR_CURRENT_DATE", nullptr)) {
         CPLSetConfigOption("OGR_CURRENT_DATE", "2000-01-01T00:00:00.000Z");
@@ -130,17 +108,35 @@ LayerWriter::LayerWriter(const WriteOptions& options, OGRLayer& source)
     const ScratchDirectory scratch(m_temp.path());
     m_in_place = updates_in_place(options, driver);
     if (m_in_place) {
-        open_in_place(driver, source);
+        open_in_place(driver);
     } else {
         create_dataset(driver);
-        create_layer(source, layer_options(driver, source));
-        create_fields(*source.GetLayerDefn());
     }
-    m_fidelity = std::make_unique<FieldFidelity>(*source.GetLayerDefn(), *m_layer->GetLayerDefn(), m_field_map,
-                                                 m_driver_name);
-    m_problems = m_fidelity->renamed_fields();
+    m_targets.reserve(sources.size());
+    for (std::size_t k = 0; k < sources.size(); ++k) {
+        add_target(driver, *sources[k], k < options.renumber.size() && options.renumber[k]);
+    }
     if (!m_in_place && m_dataset->TestCapability(ODsCTransactions)) {
         m_in_transaction = m_dataset->StartTransaction() == OGRERR_NONE;
+    }
+}
+
+// The output layer of one source: created (an existing one replaced first with --overwrite),
+// or, with --append, the existing one.
+void LayerWriter::add_target(GDALDriver& driver, OGRLayer& source, bool renumber)
+{
+    Target& t = m_targets.emplace_back();
+    t.keeps_fids = driver_keeps_fids(driver) && !renumber;
+    if (!m_in_place || !take_existing(t, source)) {
+        create_layer(t, source, creation_options(m_options.layer_options, driver, source));
+        create_fields(t, *source.GetLayerDefn());
+    }
+    t.name = t.layer->GetName();
+    t.fidelity = std::make_unique<FieldFidelity>(*source.GetLayerDefn(), *t.layer->GetLayerDefn(), t.field_map,
+                                                 m_driver_name);
+    for (Problem p : t.fidelity->renamed_fields()) {
+        p.layer = static_cast<std::uint32_t>(m_targets.size() - 1);
+        m_problems.push_back(std::move(p));
     }
 }
 
@@ -171,7 +167,7 @@ void LayerWriter::create_dataset(GDALDriver& driver)
 }
 
 // An existing OUT that holds layers: everything from here to commit() is one transaction.
-void LayerWriter::open_in_place(GDALDriver& driver, OGRLayer& source)
+void LayerWriter::open_in_place(GDALDriver& driver)
 {
     m_dataset = open_for_update(m_options, driver);
     ScopedErrorCapture capture;
@@ -179,22 +175,27 @@ void LayerWriter::open_in_place(GDALDriver& driver, OGRLayer& source)
         throw io_error(m_options.path, "", capture.last_error("cannot start a transaction to update it"));
     }
     m_in_transaction = true;
+}
+
+// In an existing OUT: true when the features go into the layer already there (--append); an
+// existing layer is deleted otherwise (--overwrite; check_update_target refused it without).
+bool LayerWriter::take_existing(Target& t, OGRLayer& source)
+{
     const std::string name = output_layer_name(m_options, source);
     OGRLayer* existing = m_dataset->GetLayerByName(name.c_str());
     if (existing != nullptr && m_options.append) {
         // The layer's own FIDs go on; the input FID goes into its orig_fid field when it has one.
-        m_layer = existing;
-        m_keeps_fids = false;
-        m_field_map = append_field_map(*source.GetLayerDefn(), *m_layer->GetLayerDefn(), m_options.fields,
+        t.layer = existing;
+        t.keeps_fids = false;
+        t.field_map = append_field_map(*source.GetLayerDefn(), *t.layer->GetLayerDefn(), m_options.fields,
                                        m_options.path + " (layer '" + name + "')");
-        m_orig_fid_field = m_layer->GetLayerDefn()->GetFieldIndex("orig_fid");
-        return;
+        t.orig_fid_field = t.layer->GetLayerDefn()->GetFieldIndex("orig_fid");
+        return true;
     }
     if (existing != nullptr) {
-        delete_layer(name); // --overwrite (check_update_target refused it otherwise)
+        delete_layer(name);
     }
-    create_layer(source, layer_options(driver, source));
-    create_fields(*source.GetLayerDefn());
+    return false;
 }
 
 void LayerWriter::delete_layer(const std::string& name)
@@ -208,77 +209,45 @@ void LayerWriter::delete_layer(const std::string& name)
     throw io_error(m_options.path, name, capture.last_error("cannot delete the layer to replace it"));
 }
 
-std::vector<std::string> LayerWriter::layer_options(GDALDriver& driver, OGRLayer& source) const
-{
-    std::vector<std::string> options = m_options.layer_options;
-    const std::string fid_column = source.GetFIDColumn();
-    if (!fid_column.empty()) {
-        add_default(options, driver, "FID", fid_column);
-    }
-    const std::string geometry_column = source.GetGeometryColumn();
-    if (!geometry_column.empty()) {
-        add_default(options, driver, "GEOMETRY_NAME", geometry_column);
-    }
-    // Shapefiles stamp today's date in the .dbf header; a fixed date makes bytes repeatable.
-    add_default(options, driver, "DBF_DATE_LAST_UPDATE", "2000-01-01");
-    // GeoJSON defaults to 15 significant digits, which can move snapped vertices; keep them exact.
-    if (!has_option(options, "COORDINATE_PRECISION")) {
-        add_default(options, driver, "SIGNIFICANT_FIGURES", "17");
-    }
-    // OGR hands us UTF-8; without this the Shapefile driver would recode to ISO-8859-1.
-    if (m_driver_name == "ESRI Shapefile") {
-        add_default(options, driver, "ENCODING", "UTF-8");
-    }
-    // FlatGeobuf's spatial index sorts features along a Hilbert curve; without it they stay in input order.
-    if (m_driver_name == "FlatGeobuf") {
-        add_default(options, driver, "SPATIAL_INDEX", "NO");
-    }
-    // CSV drops geometries unless told where to put them: as WKT in a column, like ogr2ogr -lco.
-    if (m_driver_name == "CSV") {
-        add_default(options, driver, "GEOMETRY", "AS_WKT");
-    }
-    return options;
-}
-
-void LayerWriter::create_layer(OGRLayer& source, const std::vector<std::string>& options)
+void LayerWriter::create_layer(Target& t, OGRLayer& source, const std::vector<std::string>& options)
 {
     const std::string name = m_options.layer_name.empty() ? source.GetName() : m_options.layer_name;
     const StringList list(options);
     ScopedErrorCapture capture;
-    m_layer = m_dataset->CreateLayer(name.c_str(), source.GetSpatialRef(), source.GetGeomType(), list.get());
-    if (!m_layer) {
+    t.layer = m_dataset->CreateLayer(name.c_str(), source.GetSpatialRef(), source.GetGeomType(), list.get());
+    if (!t.layer) {
         throw io_error(m_options.path, name, capture.last_error("cannot create the layer"));
     }
-    if (m_layer->GetLayerDefn()->GetGeomFieldCount() == 0) {
+    if (t.layer->GetLayerDefn()->GetGeomFieldCount() == 0) {
         throw argument_error(m_options.path + ": the " + m_driver_name +
                              " format cannot store the geometries; choose another format (e.g. -f GPKG)");
     }
 }
 
-void LayerWriter::create_fields(const OGRFeatureDefn& source)
+void LayerWriter::create_fields(Target& t, const OGRFeatureDefn& source)
 {
     ScopedErrorCapture capture;
     for (int i = 0; i < source.GetFieldCount(); ++i) {
         OGRFieldDefn field(source.GetFieldDefn(i));
         const auto& only = m_options.fields; // --select: the others map to -1, which SetFieldsFrom skips
         if (!only.empty() && std::find(only.begin(), only.end(), field.GetNameRef()) == only.end()) {
-            m_field_map.push_back(-1);
+            t.field_map.push_back(-1);
             continue;
         }
-        if (m_layer->CreateField(&field, TRUE) != OGRERR_NONE) {
-            throw io_error(m_options.path, m_layer->GetName(),
+        if (t.layer->CreateField(&field, TRUE) != OGRERR_NONE) {
+            throw io_error(m_options.path, t.layer->GetName(),
                            "cannot create field '" + std::string(field.GetNameRef()) + "': " + capture.last_error());
         }
-        m_field_map.push_back(m_layer->GetLayerDefn()->GetFieldCount() - 1);
+        t.field_map.push_back(t.layer->GetLayerDefn()->GetFieldCount() - 1);
     }
-    if (m_keeps_fids) {
+    if (t.keeps_fids) {
         return;
     }
     OGRFieldDefn orig(orig_fid_name(source).c_str(), OFTInteger64);
-    if (m_layer->CreateField(&orig) != OGRERR_NONE) {
-        throw io_error(m_options.path, m_layer->GetName(), "cannot create field orig_fid: " + capture.last_error());
+    if (t.layer->CreateField(&orig) != OGRERR_NONE) {
+        throw io_error(m_options.path, t.layer->GetName(), "cannot create field orig_fid: " + capture.last_error());
     }
-    m_orig_fid_field = m_layer->GetLayerDefn()->GetFieldCount() - 1;
+    t.orig_fid_field = t.layer->GetLayerDefn()->GetFieldCount() - 1;
 }
 
 std::filesystem::path LayerWriter::failure_scope() const
@@ -305,37 +274,63 @@ void LayerWriter::fail_finishing(const std::string& gdal_message) const
     throw io_error(m_options.path, "", gdal_message + outcome());
 }
 
-std::string LayerWriter::write(const OGRFeature& source, std::int64_t fid, OGRGeometry* geometry)
+std::string LayerWriter::write(std::size_t layer, const OGRFeature& source, std::int64_t fid, OGRGeometry* geometry)
 {
+    Target& t = m_targets[layer];
     ScopedErrorCapture capture;
-    OGRFeatureUniquePtr out(OGRFeature::CreateFeature(m_layer->GetLayerDefn()));
-    out->SetFieldsFrom(&source, m_field_map.data(), TRUE);
-    if (m_orig_fid_field >= 0) {
-        out->SetField(m_orig_fid_field, static_cast<GIntBig>(fid));
+    OGRFeatureUniquePtr out(OGRFeature::CreateFeature(t.layer->GetLayerDefn()));
+    out->SetFieldsFrom(&source, t.field_map.data(), TRUE);
+    if (t.orig_fid_field >= 0) {
+        out->SetField(t.orig_fid_field, static_cast<GIntBig>(fid));
     }
-    if (m_keeps_fids) {
+    if (t.keeps_fids) {
         out->SetFID(fid);
     }
     out->SetGeometryDirectly(geometry);
-    const bool refused = m_layer->CreateFeature(out.get()) != OGRERR_NONE;
+    const bool refused = t.layer->CreateFeature(out.get()) != OGRERR_NONE;
     throw_if_write_failed();
     if (refused && m_in_place) {
         // Inside the transaction a refusal cannot be told from a failed write (SQLite may even
         // have ended the transaction): stop and roll back rather than commit half a layer.
-        throw io_error(m_options.path, m_layer->GetName(), "feature " + std::to_string(fid) + ": " +
+        throw io_error(m_options.path, t.layer->GetName(), "feature " + std::to_string(fid) + ": " +
                        capture.last_error("the driver refused the feature") + outcome());
     }
     if (refused) {
         return capture.last_error("the driver refused the feature");
     }
-    m_fidelity->check(source, *out, fid, m_problems);
-    ++m_written;
+    const std::size_t first = m_problems.size();
+    t.fidelity->check(source, *out, fid, m_problems);
+    for (std::size_t i = first; i < m_problems.size(); ++i) {
+        m_problems[i].layer = static_cast<std::uint32_t>(layer);
+    }
+    ++t.written;
     return "";
 }
 
 std::vector<Problem> LayerWriter::take_problems()
 {
     return std::exchange(m_problems, {});
+}
+
+std::vector<std::string> LayerWriter::warnings() const
+{
+    std::vector<std::string> lines;
+    for (const Target& t : m_targets) {
+        const std::string prefix = m_targets.size() > 1 ? "layer '" + t.name + "': " : "";
+        for (const std::string& line : t.fidelity->summary()) {
+            lines.push_back(prefix + line);
+        }
+    }
+    return lines;
+}
+
+std::size_t LayerWriter::written() const
+{
+    std::size_t n = 0;
+    for (const Target& t : m_targets) {
+        n += t.written;
+    }
+    return n;
 }
 
 void LayerWriter::finish()

@@ -34,7 +34,10 @@ struct WriteOptions {
     bool overwrite = false;
     bool update = false; ///< --update: write the layer into an existing OUT beside its other layers
     bool append = false; ///< --append: add the features to OUT's layer of that name
-    bool renumber = false; ///< input FIDs unusable (duplicate or missing): always add orig_fid
+    bool renamable = true; ///< -nln could name the output layer (not when several layers go to OUT)
+    /// Per source layer: its input FIDs are unusable (duplicate or missing): always add orig_fid.
+    /// Missing entries are false.
+    std::vector<bool> renumber;
     ProtectedFiles protected_files; ///< never replaced (the input's files); checked again at the rename
     /// When set, commit() stages OUT's files in this group instead of renaming them, and the
     /// group's owner renames them together with the report (see commit_group.hpp).
@@ -56,14 +59,19 @@ void check_output_files(const WriteOptions& options, GDALDriver& driver);
 /// True when the driver stores the FIDs we set (else the writer adds `orig_fid`).
 bool driver_keeps_fids(GDALDriver& driver);
 
+/// Writes one output layer per source layer into one dataset (several layers snapped together go
+/// to one OUT, each to a layer of its own name); the checks, the atomic rename and the update
+/// transaction cover them all.
 class LayerWriter {
 public:
-    /// Creates the output dataset, layer and fields in the temporary directory: construct it
+    /// Creates the output dataset, layers and fields in the temporary directory: construct it
     /// before the long work so a layer or field the format refuses fails the run at once. Throws
     /// argument_error (format cannot hold the layer's geometry), io_error (creation failed); the
     /// temporary directory is gone either way. Removes stale ".OUT.trisnap-tmp-PID" directories
-    /// of processes that no longer exist.
-    LayerWriter(const WriteOptions& options, OGRLayer& source);
+    /// of processes that no longer exist. Several sources need a driver that holds several
+    /// layers (the plan checks it) and no options.layer_name.
+    LayerWriter(const WriteOptions& options, const std::vector<OGRLayer*>& sources);
+    LayerWriter(const WriteOptions& options, OGRLayer& source) : LayerWriter(options, std::vector<OGRLayer*>{&source}) {}
     ~LayerWriter(); ///< removes the temporary directory unless commit() succeeded
     LayerWriter(const LayerWriter&) = delete;
     LayerWriter& operator=(const LayerWriter&) = delete;
@@ -71,30 +79,49 @@ public:
     /// Writes the attributes of `source` (by field index) with `geometry` (ownership taken,
     /// may be null). Returns "" on success, else the driver's message (problem 902). Throws
     /// io_error when a write to disk failed (full disk, file size limit): the run cannot go on.
-    std::string write(const OGRFeature& source, std::int64_t fid, OGRGeometry* geometry);
+    std::string write(std::size_t layer, const OGRFeature& source, std::int64_t fid, OGRGeometry* geometry);
+    /// write() to the first (or only) layer.
+    std::string write(const OGRFeature& source, std::int64_t fid, OGRGeometry* geometry)
+    {
+        return write(0, source, fid, geometry);
+    }
     /// Closes the dataset, checks every write and the close, flushes the files to disk and
     /// renames them into place (or stages them in options.commit_group). Throws io_error, and
     /// argument_error when OUT appeared meanwhile without --overwrite.
     void commit();
 
-    /// Problems 903 (values the format changed) and 904 (renamed fields) found so far.
+    /// Problems 903 (values the format changed) and 904 (renamed fields) found so far, each
+    /// with its layer's index in Problem::layer.
     std::vector<Problem> take_problems();
-    /// One line per field and kind of change, for a warning on stderr.
-    std::vector<std::string> warnings() const { return m_fidelity->summary(); }
+    /// One line per field and kind of change, for a warning on stderr (with several layers,
+    /// each starts with "layer 'x': ").
+    std::vector<std::string> warnings() const;
 
-    bool keeps_fids() const { return m_keeps_fids; }
     const std::string& driver_name() const { return m_driver_name; }
-    std::size_t written() const { return m_written; }
+    std::size_t written() const;                    ///< in all layers
+    std::size_t written(std::size_t layer) const { return m_targets[layer].written; }
 
 private:
+    /// One output layer and what it takes to write a source layer's features into it.
+    struct Target {
+        OGRLayer* layer = nullptr; ///< gone once the dataset is closed (commit)
+        std::string name;
+        std::vector<int> field_map;
+        std::unique_ptr<FieldFidelity> fidelity;
+        int orig_fid_field = -1;
+        bool keeps_fids = false;
+        std::size_t written = 0;
+    };
+
     void create_dataset(GDALDriver& driver);
-    void open_in_place(GDALDriver& driver, OGRLayer& source);
+    void open_in_place(GDALDriver& driver);
+    void add_target(GDALDriver& driver, OGRLayer& source, bool renumber);
+    bool take_existing(Target& t, OGRLayer& source);
     void delete_layer(const std::string& name);
     std::filesystem::path failure_scope() const;
     const char* outcome() const;
-    void create_layer(OGRLayer& source, const std::vector<std::string>& options);
-    void create_fields(const OGRFeatureDefn& source);
-    std::vector<std::string> layer_options(GDALDriver& driver, OGRLayer& source) const;
+    void create_layer(Target& t, OGRLayer& source, const std::vector<std::string>& options);
+    void create_fields(Target& t, const OGRFeatureDefn& source);
     void throw_if_write_failed() const;
     [[noreturn]] void fail_finishing(const std::string& gdal_message) const;
     void finish();
@@ -106,16 +133,11 @@ private:
     bool m_streamed = false;        ///< OUT is stdout: written as it goes, no temporary or rename
     bool m_in_place = false;        ///< OUT exists and is updated in its transaction, no temporary or rename
     GDALDatasetUniquePtr m_dataset; ///< closed before m_temp is removed
-    OGRLayer* m_layer = nullptr;
+    std::vector<Target> m_targets;  ///< one per source layer, in order
     std::string m_driver_name;
-    std::vector<int> m_field_map;
-    std::unique_ptr<FieldFidelity> m_fidelity;
     std::vector<Problem> m_problems;
-    int m_orig_fid_field = -1;
-    bool m_keeps_fids = false;
     bool m_in_transaction = false;
     bool m_committed = false;
-    std::size_t m_written = 0;
 };
 
 } // namespace trisnap

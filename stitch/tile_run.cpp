@@ -251,6 +251,13 @@ void TileRunner::commit(std::size_t group, const tiling::TileOutcome& oc, TileRe
     }
     report.output_edges_owned = builder.owned();
     report.problems = builder.problems();
+    write_files(group, report, builder.pieces(), builder.seams());
+}
+
+// result-<group>: the report, then the pieces worth keeping (in rank order); seams-<group>.
+void TileRunner::write_files(std::size_t group, const TileReport& report, const std::vector<Piece>& pieces,
+                             const std::vector<SeamEdge>& seams) const
+{
     std::string record;
     {
         const std::unique_ptr<tiling::OutFile> file = m_store.create(files::result(group));
@@ -258,7 +265,7 @@ void TileRunner::commit(std::size_t group, const tiling::TileOutcome& oc, TileRe
         tiling::ByteWriter w(record);
         put_tile_report(w, report);
         writer.write(record);
-        for (const Piece& p : builder.pieces()) {
+        for (const Piece& p : pieces) {
             if (worth_keeping(p)) {
                 record.clear();
                 put_piece(w, p);
@@ -270,7 +277,7 @@ void TileRunner::commit(std::size_t group, const tiling::TileOutcome& oc, TileRe
     const std::unique_ptr<tiling::OutFile> file = m_store.create(files::seams(group));
     tiling::RecordWriter writer(*file);
     tiling::ByteWriter w(record);
-    for (const SeamEdge& s : builder.seams()) {
+    for (const SeamEdge& s : seams) {
         record.clear();
         put_seam_edge(w, s);
         writer.write(record);
@@ -327,36 +334,25 @@ void TileRunner::fail(std::size_t group, const std::string& reason) const
     }
     std::sort(by_rank.begin(), by_rank.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     report.problems = by_rank.size();
-    std::string record;
-    {
-        const std::unique_ptr<tiling::OutFile> file = m_store.create(files::result(group));
-        tiling::RecordWriter writer(*file);
-        tiling::ByteWriter w(record);
-        put_tile_report(w, report);
-        writer.write(record);
-        for (const auto& [rank, f] : by_rank) {
-            Piece piece;
-            piece.rank = rank;
-            Problem p;
-            p.feature_id = f->feature.id;
-            p.code = ProblemCode::tile_failed;
-            p.message = "tile " + std::to_string(report.id) + " failed alone and merged with its neighbours (" + reason +
-                        "); not written (--on-error skip)";
-            const Geometry& g = f->feature.geometry;
-            const Path* first = !g.polygons.empty() && !g.polygons[0].rings.empty() ? &g.polygons[0].rings[0]
-                                : !g.lines.empty()                                  ? &g.lines[0]
-                                                                                    : nullptr;
-            p.x = first && !first->empty() ? first->front().x : std::nan("");
-            p.y = first && !first->empty() ? first->front().y : std::nan("");
-            piece.problems.push_back(std::move(p));
-            record.clear();
-            put_piece(w, piece);
-            writer.write(record);
-        }
-        file->commit();
+    std::vector<Piece> pieces;
+    for (const auto& [rank, f] : by_rank) {
+        Piece piece;
+        piece.rank = rank;
+        Problem p;
+        p.feature_id = f->feature.id;
+        p.code = ProblemCode::tile_failed;
+        p.message = "tile " + std::to_string(report.id) + " failed alone and merged with its neighbours (" + reason +
+                    "); not written (--on-error skip)";
+        const Geometry& g = f->feature.geometry;
+        const Path* first = !g.polygons.empty() && !g.polygons[0].rings.empty() ? &g.polygons[0].rings[0]
+                            : !g.lines.empty()                                  ? &g.lines[0]
+                                                                                : nullptr;
+        p.x = first && !first->empty() ? first->front().x : std::nan("");
+        p.y = first && !first->empty() ? first->front().y : std::nan("");
+        piece.problems.push_back(std::move(p));
+        pieces.push_back(std::move(piece));
     }
-    const std::unique_ptr<tiling::OutFile> seams = m_store.create(files::seams(group));
-    seams->commit();
+    write_files(group, report, pieces, {});
 }
 
 TileReport TileRunner::run(std::size_t group, const SnapProgress& progress) const

@@ -30,6 +30,8 @@ private:
     tiling::TileJobInput gather(std::size_t group, double halo) const;
     tiling::TileJobInput gather_wide(std::size_t group, double halo) const;
     void commit(std::size_t group, const tiling::TileOutcome& oc, TileReport& report) const;
+    void write_files(std::size_t group, const TileReport& report, const std::vector<Piece>& pieces,
+                     const std::vector<SeamEdge>& seams) const;
 
     tiling::WorkStore& m_store;
     const TileLayout& m_layout;

@@ -31,7 +31,9 @@ ordered_json config_json(const Plan& plan)
     const TilingConfig& t = plan.config.tiling;
     ordered_json tiling = {{"size", t.size}, {"vertex_budget", t.vertex_budget}, {"halo", t.halo},
                            {"max_growth", t.max_growth}, {"no_tiles", t.no_tiles}};
-    return {{"snap", snap}, {"tiling", tiling}, {"run", {{"threads", plan.config.run.threads}}},
+    return {{"snap", snap}, {"tiling", tiling}, {"run", {{"threads", plan.config.run.threads}, {"memory_limit", plan.config.run.memory_limit},
+                                                     {"allow_collapse", plan.config.run.allow_collapse},
+                                                     {"on_error", plan.config.run.on_error}}},
             {"tolerance_layer_units", plan.tolerance}, {"tolerance_note", plan.tolerance_note}};
 }
 

@@ -59,6 +59,9 @@ Mesh::Mesh(const std::vector<CleanFeature>& features, double reach, WorkMeter* m
     const std::size_t first_created = m_vertices.size();
     insert_constraints(features, meter);
     register_created_vertices(first_created);
+    // The build recorded every constraint as "new"; only the snapper's edits need that list.
+    m_new_edges.clear();
+    m_new_edges.shrink_to_fit();
 }
 
 // Distinct points get ids in lexicographic (x, y) order; they are inserted in CGAL's spatial

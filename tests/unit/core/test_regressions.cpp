@@ -85,5 +85,20 @@ TEST(Regressions, NoNegativeZeroInOutput) {
         EXPECT_FALSE(has_negative_zero(to_wkt(f.geometry))) << to_wkt(f.geometry);
 }
 
+TEST(Regressions, SliverLeftByACrossingIsClosedOrReported) {
+    // fuzz_snap (scripts/fuzz.sh snap, 2026-11-25): a bow-tie whose lobes meet in a crossing
+    // 0.0078 from a long edge. At t = 1 with sliver_factor 0 the output kept a triangle 512 long
+    // and 0.0156 wide: its apex 0.0156 t from its opposite edge, no problem saying so.
+    SnapOptions o = options_at(1.0);
+    o.sliver_factor = 0.0;
+    o.verify_fixpoint = true;
+    const std::vector<Feature> in{feature(1, "POLYGON ((0 -1.5, 0 511.96875, -0.015625 3.140625, -0.015625 -0.015625, "
+                                             "-0.015625 -0.015625, -0.015625 -0.015625, -0.015625 -248.015625, "
+                                             "-248.984375 -248.984375, -248.984375 -248.984375, -248.984375 -248.984375, 0 -1.5))")};
+    const CheckedRun run = snap_and_check(in, o, 1);
+    EXPECT_EQ(run.result.stats.fixpoint_misses, 0u);
+    EXPECT_TRUE(contract_holds(run.report, 1.0)) << run.report.summary() << "\nproblems:\n" << problem_lines(run.result.problems);
+}
+
 } // namespace
 } // namespace trisnap

@@ -163,7 +163,8 @@ void report_unresolved(Mesh& mesh, const SnapperOutcome& outcome, const std::vec
         }
         const VertexRecord& r = mesh.vertex(hits[k].second);
         problems.push_back(Problem{clean[hits[k].first].id, code,
-            outcome.converged ? "a vertex stays closer than the tolerance allows (split refused: it already snapped into that edge)"
+            outcome.converged ? "a vertex stays closer than the tolerance allows (a split refused because it already snapped into "
+                                "that edge, or a merge blocked by a constraint)"
                               : "operation cap reached before the fix-point", r.x, r.y});
     }
 }

@@ -218,8 +218,11 @@ void stage_report(CommitGroup& group, const std::string& path, const Plan& plan,
 void print_summary(std::ostream& out, const Plan& plan, const RunResult& r, double total_seconds)
 {
     const std::size_t not_written = r.input - r.written;
-    out << fmt::format("{} in, {} written, {} not written ({} rejected on input, {} dropped by the engine, {} refused by the driver)\n",
-                       count_of(r.input, "feature"), r.written, not_written, r.rejected, r.dropped, r.unwritable);
+    const std::string failed = r.stitch.failed_features == 0
+                                   ? ""
+                                   : fmt::format(", {} of them in failed tiles", r.stitch.failed_features);
+    out << fmt::format("{} in, {} written, {} not written ({} rejected on input, {} dropped by the engine{}, {} refused by the driver)\n",
+                       count_of(r.input, "feature"), r.written, not_written, r.rejected, r.dropped, failed, r.unwritable);
     for (std::size_t k = 0; plan.layers.size() > 1 && k < r.layers.size(); ++k) {
         const LayerCounts& c = r.layers[k];
         out << fmt::format("  layer '{}': {} in, {} written, {} not written ({} rejected, {} dropped, {} refused)\n",

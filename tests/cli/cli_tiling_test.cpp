@@ -134,8 +134,10 @@ TEST_F(CliOnError, SkipReportsEveryDroppedFeatureAndWritesTheRestUnchanged)
 {
     ::setenv("TRISNAP_FAIL_TILES", std::to_string(tile).c_str(), 1);
     const std::string out = dir.path("out.gpkg");
-    RunOutput r = run_trisnap(dir, with_options({"snap", andorra(), out, "-q", "--on-error", "skip", "--report", out + ".json"}));
+    RunOutput r = run_trisnap(dir, with_options({"snap", andorra(), out, "--on-error", "skip", "--report", out + ".json"}));
     ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find(" of them in failed tiles"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("303 tile_failed x"), std::string::npos) << r.out;
     const auto report = read_json(out + ".json");
     EXPECT_EQ(report["tiling"]["tiles_failed"].get<std::size_t>(), 1u);
     const std::size_t failed = report["tiling"]["failed_features"].get<std::size_t>();

@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <tuple>
 #include <unordered_map>
@@ -85,6 +86,37 @@ double feature_displacement(Context& c, std::size_t f)
 void report_outcome(Context& c, std::size_t f, const Geometry& g, double moved)
 {
     if (detail::outcome_problems(c.clean[f], g, moved, c.options, c.result.problems)) ++c.result.stats.collapsed_features;
+}
+
+/// By feature id, then code (the order snap() promises).
+void sort_problems(std::vector<Problem>& problems)
+{
+    std::stable_sort(problems.begin(), problems.end(), [](const Problem& a, const Problem& b) {
+        return a.feature_id != b.feature_id ? a.feature_id < b.feature_id : a.code < b.code;
+    });
+}
+
+// True when every input point lies within t of every other (the diagonal of their bounding box
+// is shorter than t, with a margin for its rounding). Merges and splits only ever put vertices
+// inside the convex hull of the input, so no two output vertices could be t apart: the only
+// answer the contract allows is that every feature collapses. It is given without building the
+// triangulation, whose queue would hold an event for every pair of vertices (about 10^9 for
+// Andorra at t = 1 degree: it ran out of memory at 12.7 GB).
+bool all_within_tolerance(const std::vector<CleanFeature>& clean, double t)
+{
+    double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+    bool any = false;
+    auto add = [&](const Coord& c) {
+        x0 = std::min(x0, c.x), y0 = std::min(y0, c.y), x1 = std::max(x1, c.x), y1 = std::max(y1, c.y);
+        any = true;
+    };
+    for (const CleanFeature& cf : clean) {
+        if (cf.rejected) continue;
+        for (const auto& ring : cf.rings) std::for_each(ring.points.begin(), ring.points.end(), add);
+        for (const auto& line : cf.lines) std::for_each(line.begin(), line.end(), add);
+    }
+    const double dx = x1 - x0, dy = y1 - y0;
+    return any && dx * dx + dy * dy < t * t * (1.0 - 1e-9);
 }
 
 void extract_all(Context& c, const detail::FaceLabels& labels)
@@ -164,6 +196,15 @@ SnapResult snap(const std::vector<Feature>& features, const SnapOptions& options
     }
     const detail::SnapperParams params = snapper_params(options, st.input_vertices);
     detail::WorkMeter meter(options.progress, st.input_vertices);
+    if (all_within_tolerance(clean, options.tolerance)) {
+        for (const CleanFeature& cf : clean) {
+            if (!cf.rejected && detail::outcome_problems(cf, Geometry{}, 0.0, options, result.problems)) ++st.collapsed_features;
+        }
+        sort_problems(result.problems);
+        st.seconds_triangulate = clock.lap();
+        meter.finish();
+        return result;
+    }
     Mesh mesh(clean, std::max({params.vertex_threshold, params.edge_threshold, params.sliver_threshold}), &meter);
     st.triangulation_vertices = mesh.tri().number_of_vertices() - Mesh::frame_vertices;
     st.intersections = mesh.intersections();
@@ -193,9 +234,7 @@ SnapResult snap(const std::vector<Feature>& features, const SnapOptions& options
     detail::report_unresolved(mesh, outcome, clean, options.report_region, result.problems);
     st.output_vertices = mesh.tri().number_of_vertices() - Mesh::frame_vertices;
     st.seconds_extract = clock.lap();
-    std::stable_sort(result.problems.begin(), result.problems.end(), [](const Problem& a, const Problem& b) {
-        return a.feature_id != b.feature_id ? a.feature_id < b.feature_id : a.code < b.code;
-    });
+    sort_problems(result.problems);
     meter.finish();
     return result;
 }

@@ -77,5 +77,28 @@ TEST(AdversarialScalingSlow, SquaresAtLargeToleranceScaleNearLinearly) {
     }
 }
 
+TEST(Adversarial, ToleranceLargerThanTheWholeLayerCollapsesEverythingWithoutTriangulating) {
+    // Every vertex within t of every other: no two output vertices could be t apart, so every
+    // feature collapses, and the engine says so at once (Andorra at 1 degree ran out of memory
+    // at 12.7 GB: its queue held an event per pair of vertices). 2,000 squares and a line in a
+    // 1 x 1 box (diagonal 1.41) at t = 1.5.
+    std::vector<Feature> in = random_small_squares(2000, 0.01, 0.99, 3);
+    in.push_back(dense_line(5000, 200, 0.005, 0.001, 4));
+    const CheckedRun run = snap_and_check(in, options_at(1.5), in.size());
+    EXPECT_EQ(run.result.stats.triangulation_vertices, 0u) << "the triangulation was built";
+    EXPECT_EQ(run.result.stats.collapsed_features, in.size());
+    for (const FeatureOutput& f : run.result.features) {
+        EXPECT_TRUE(f.geometry.empty()) << "feature " << f.id;
+    }
+    EXPECT_EQ(count_code(run.result, ProblemCode::collapsed_polygon), 2000u);
+    EXPECT_EQ(count_code(run.result, ProblemCode::collapsed_line), 1u);
+    EXPECT_EQ(run.report.n_missing, 0u) << run.report.summary(); // each one excused by 201/202
+    // Just below the diagonal the engine runs as always, and keeps the contract.
+    const std::vector<Feature> few(in.begin(), in.begin() + 40);
+    const CheckedRun full = snap_and_check(few, options_at(0.5), few.size());
+    EXPECT_GT(full.result.stats.triangulation_vertices, 0u);
+    EXPECT_TRUE(contract_holds(full.report, 0.5)) << full.report.summary();
+}
+
 } // namespace
 } // namespace trisnap

@@ -134,7 +134,7 @@ void report_collapsed_edges(Mesh& mesh, const FaceLabels& labels, const std::vec
 }
 
 void report_unresolved(Mesh& mesh, const SnapperOutcome& outcome, const std::vector<CleanFeature>& clean,
-                       const Region& region, std::vector<Problem>& problems)
+                       const Region& region, double grid, std::vector<Problem>& problems)
 {
     const ProblemCode code = outcome.converged ? ProblemCode::separation_not_reached : ProblemCode::not_converged;
     std::vector<std::uint32_t> owners;
@@ -163,9 +163,11 @@ void report_unresolved(Mesh& mesh, const SnapperOutcome& outcome, const std::vec
         }
         const VertexRecord& r = mesh.vertex(hits[k].second);
         problems.push_back(Problem{clean[hits[k].first].id, code,
-            outcome.converged ? "a vertex stays closer than the tolerance allows (a split refused because it already snapped into "
-                                "that edge, or a merge blocked by a constraint)"
-                              : "operation cap reached before the fix-point", r.x, r.y});
+            std::string(outcome.converged ? "a vertex stays closer than the tolerance allows (a split refused because it already "
+                                            "snapped into that edge, or a merge blocked by a constraint)"
+                                          : "operation cap reached before the fix-point") +
+                (grid > 0 ? "; the output of this run is not rounded to the grid (rounding could make it invalid)" : ""),
+            r.x, r.y});
     }
 }
 

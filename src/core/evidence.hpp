@@ -29,8 +29,8 @@ void report_collapsed_edges(Mesh& mesh, const FaceLabels& labels, const std::vec
                             const std::vector<bool>& written, const Region& region, std::vector<Problem>& problems);
 
 /// 205 (cap reached) or 207 (guard refused a split) for every feature with an edge at an
-/// unresolved vertex.
+/// unresolved vertex; `grid` > 0: the message says the run was not rounded to it.
 void report_unresolved(Mesh& mesh, const SnapperOutcome& outcome, const std::vector<CleanFeature>& clean,
-                       const Region& region, std::vector<Problem>& problems);
+                       const Region& region, double grid, std::vector<Problem>& problems);
 
 } // namespace trisnap::detail

@@ -67,6 +67,7 @@ struct Context {
     Mesh& mesh;
     SnapResult& result;
     detail::WorkMeter& meter;
+    double grid; ///< the output grid, 0 when rounding is not safe (see snap())
 };
 
 double feature_displacement(Context& c, std::size_t f)
@@ -129,7 +130,7 @@ void extract_all(Context& c, const detail::FaceLabels& labels)
         out.id = cf.id;
         if (cf.rejected) continue;
         const bool has_z = c.result.features[cf.index].geometry.has_z;
-        const detail::ExtractOptions eo{c.options.grid, has_z};
+        const detail::ExtractOptions eo{c.grid, has_z};
         if (cf.polygonal) {
             out.geometry = detail::extract_polygons(c.mesh, labels.faces_of[f], eo);
         } else {
@@ -224,14 +225,20 @@ SnapResult snap(const std::vector<Feature>& features, const SnapOptions& options
     const detail::FaceLabels labels = detail::label_faces(mesh, clean.size());
     st.seconds_label = clock.lap();
     meter.begin(detail::WorkMeter::Step::extraction);
-    Context ctx{options, clean, mesh, result, meter};
+    // Rounding to the grid keeps the output valid only at the fix-point, where every vertex is
+    // at least the thresholds (with their 2g margins) from every edge. A run stopped short of it
+    // (operation cap, refused split: 205/207) can hold a vertex next to an edge, and rounding
+    // then crossed it: an invalid ring, found by fuzz_snap (t = 1.5e65, grid t/4, a cap of 18
+    // operations). Such a run is written unrounded, and 205/207 say so.
+    const bool round = outcome.converged && outcome.unresolved.empty();
+    Context ctx{options, clean, mesh, result, meter, round ? options.grid : 0.0};
     extract_all(ctx, labels);
     std::vector<bool> written(clean.size());
     for (std::size_t f = 0; f < clean.size(); ++f) {
         written[f] = !result.features[clean[f].index].geometry.empty();
     }
     detail::report_collapsed_edges(mesh, labels, clean, written, options.report_region, result.problems);
-    detail::report_unresolved(mesh, outcome, clean, options.report_region, result.problems);
+    detail::report_unresolved(mesh, outcome, clean, options.report_region, options.grid, result.problems);
     st.output_vertices = mesh.tri().number_of_vertices() - Mesh::frame_vertices;
     st.seconds_extract = clock.lap();
     sort_problems(result.problems);

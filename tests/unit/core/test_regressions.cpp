@@ -100,5 +100,32 @@ TEST(Regressions, SliverLeftByACrossingIsClosedOrReported) {
     EXPECT_TRUE(contract_holds(run.report, 1.0)) << run.report.summary() << "\nproblems:\n" << problem_lines(run.result.problems);
 }
 
+TEST(Regressions, RunStoppedByTheOperationCapIsNotRoundedToTheGrid) {
+    // fuzz_snap (2026-11-25): a cap of 18 operations stopped the snapper short of the fix-point
+    // with a vertex next to an edge; rounding to the grid (t/4) then moved it across, and the
+    // ring self-intersected. A run that stops short is written unrounded, and 205 says so.
+    SnapOptions o = options_at(0x1.7cp+65);
+    o.edge_separation = 0.25;
+    o.sliver_factor = 1.0;
+    o.grid = 0x1.7cp+63;
+    o.max_operations = 18;
+    const std::vector<Feature> in{
+        feature(4, "POLYGON ((0 5.471243043307321e+21, 0 -855683929200394240, -855683929200394240 30804621451214192640, "
+                   "0 8556839292003942400, -1.3635323411808282e+22 -1.3640457515383485e+22, 855683929200394240 0, 0 0, "
+                   "-855683929200394240 0, 0 -3.504881374004815e+21, 108671859008450068480 2.0152212216598485e+22, "
+                   "-855683929200394240 -2.102928824402889e+22, 0 5.471243043307321e+21))"),
+        feature(5, "POLYGON ((1.8619682299400579e+22 -2.102928824402889e+22, -308901898441342320640 0, "
+                   "60753558973227991040 876220343501203701760, 0 0, 1.8619682299400579e+22 -2.102928824402889e+22))")};
+    const CheckedRun run = snap_and_check(in, o, in.size());
+    EXPECT_EQ(run.report.n_invalid, 0u) << run.report.summary();
+    EXPECT_EQ(run.report.n_missing, 0u) << run.report.summary();
+    ASSERT_GT(count_code(run.result, ProblemCode::not_converged), 0u);
+    for (const Problem& p : run.result.problems) {
+        if (p.code == ProblemCode::not_converged) {
+            EXPECT_NE(p.message.find("not rounded to the grid"), std::string::npos) << p.message;
+        }
+    }
+}
+
 } // namespace
 } // namespace trisnap

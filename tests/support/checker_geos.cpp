@@ -1,6 +1,8 @@
 #include "checker_geos.hpp"
 
+#include <algorithm>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace trisnap::checker_detail {
@@ -73,12 +75,53 @@ GeomPtr polygonal_parts(const GeosContext& ctx, GeomPtr g) {
     return own(ctx, GEOSUnaryUnion_r(ctx.get(), owned.get()));
 }
 
+// Distinct points of a ring (a ring of fewer than 3 has no area).
+std::size_t distinct_points(const GeosContext& ctx, const GEOSGeometry* ring) {
+    const GEOSCoordSequence* seq = GEOSGeom_getCoordSeq_r(ctx.get(), ring);
+    unsigned int n = 0;
+    if (!seq || !GEOSCoordSeq_getSize_r(ctx.get(), seq, &n))
+        return 0;
+    std::vector<std::pair<double, double>> pts(n);
+    for (unsigned int i = 0; i < n; ++i)
+        GEOSCoordSeq_getXY_r(ctx.get(), seq, i, &pts[i].first, &pts[i].second);
+    std::sort(pts.begin(), pts.end());
+    return static_cast<std::size_t>(std::unique(pts.begin(), pts.end()) - pts.begin());
+}
+
+// The polygons of g whose shell has an area: a polygon whose shell has fewer than 3 distinct
+// points is nothing, holes included (they are holes of nothing). Null when none is left out.
+GeomPtr without_pointless_shells(const GeosContext& ctx, const GEOSGeometry* g) {
+    const int type = GEOSGeomTypeId_r(ctx.get(), g);
+    if (type != GEOS_MULTIPOLYGON && type != GEOS_POLYGON)
+        return nullptr;
+    std::vector<GEOSGeometry*> kept;
+    const int parts = type == GEOS_POLYGON ? 1 : GEOSGetNumGeometries_r(ctx.get(), g);
+    for (int i = 0; i < parts; ++i) {
+        const GEOSGeometry* poly = type == GEOS_POLYGON ? g : GEOSGetGeometryN_r(ctx.get(), g, i);
+        if (distinct_points(ctx, GEOSGetExteriorRing_r(ctx.get(), poly)) >= 3)
+            kept.push_back(GEOSGeom_clone_r(ctx.get(), poly));
+    }
+    if (static_cast<int>(kept.size()) == parts) {
+        for (GEOSGeometry* k : kept)
+            GEOSGeom_destroy_r(ctx.get(), k);
+        return nullptr;
+    }
+    return own(ctx, GEOSGeom_createCollection_r(ctx.get(), GEOS_MULTIPOLYGON, kept.data(),
+                                                static_cast<unsigned>(kept.size())));
+}
+
 // Inputs may be invalid (bowties, overlapping rings, holes outside their shell): GEOS overlay
 // would throw on them, so pair tests run on a valid stand-in covering the area the engine gives
 // them, by the odd-even rule: GEOS's LINEWORK method (faces of the noded rings, alternating).
 // The STRUCTURE method would drop a hole lying outside its shell, which the engine keeps as
-// area, and make an overlap with it look new (found by fuzz_snap).
+// area, and make an overlap with it look new (found by fuzz_snap). A polygon whose shell has no
+// area is left out first, its holes with it: LINEWORK would alternate across such a hole's ring
+// inside another polygon of the feature, a hole of nothing cutting into something (found by
+// fuzz_snap: a degenerate shell's hole inside the feature's other polygon).
 GeomPtr repair(const GeosContext& ctx, const GEOSGeometry* g) {
+    const GeomPtr pruned = without_pointless_shells(ctx, g);
+    if (pruned)
+        g = pruned.get();
     GEOSMakeValidParams* params = GEOSMakeValidParams_create_r(ctx.get());
     GEOSMakeValidParams_setMethod_r(ctx.get(), params, GEOS_MAKE_VALID_LINEWORK);
     GeomPtr fixed = own(ctx, GEOSMakeValidWithParams_r(ctx.get(), g, params));

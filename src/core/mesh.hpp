@@ -90,6 +90,13 @@ public:
     /// over faces meeting the capsule.
     void search_segment(std::uint32_t b, std::uint32_t c, double r2,
                         std::vector<std::pair<double, std::uint32_t>>& vertices);
+    /// Whether the segment a-b is free: no vertex strictly inside it and no constrained edge
+    /// crossing it (edges at a or b do not count). The walk along the segment that inserting a
+    /// constraint makes (first_obstacle), so its cost is the faces the segment crosses.
+    bool segment_is_free(std::uint32_t a, std::uint32_t b) const
+    {
+        return first_obstacle(m_vertices[a].handle, m_vertices[b].handle).kind == Obstacle::Kind::none;
+    }
     /// Owner indices of the edge a-b (empty if it is not constrained).
     void owners_of_edge(std::uint32_t a, std::uint32_t b, std::vector<std::uint32_t>& out) const;
     /// The owners of a-b oriented from a to b (appended).

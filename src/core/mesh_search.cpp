@@ -132,7 +132,9 @@ void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
                     vertices.emplace_back(d2, w);
                 }
             }
-            if (!f->is_constrained(i)) {
+            // A constrained edge in reach meets the region, so the walk visits both its faces:
+            // take it from one of them (the order of `edges` means nothing to the callers).
+            if (!f->is_constrained(i) || (f->neighbor(i) < f && !m_tri.is_infinite(f->neighbor(i)))) {
                 continue;
             }
             const std::uint32_t a = f->vertex(cdt::Triangulation::cw(i))->info().id;
@@ -149,12 +151,6 @@ void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
     m_vertex_stamp[v] = stamp;
     walk_region(m_tri, rv.handle, stamp, m_walk,
                 [&](std::uint32_t a, std::uint32_t b) { return seg_dist2(a, b) <= reach2; }, visit_face);
-    // A constrained edge is seen from both its faces: keep it once.
-    std::sort(edges.begin(), edges.end(),
-              [](const EdgeHit& p, const EdgeHit& q) { return std::tie(p.b, p.c) < std::tie(q.b, q.c); });
-    edges.erase(std::unique(edges.begin(), edges.end(),
-                            [](const EdgeHit& p, const EdgeHit& q) { return p.b == q.b && p.c == q.c; }),
-                edges.end());
 }
 
 void Mesh::search_segment(std::uint32_t b, std::uint32_t c, double r2,

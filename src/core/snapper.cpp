@@ -5,6 +5,8 @@
 #include "core/tracked_face.hpp"
 
 #include <algorithm>
+#include <tuple>
+#include <utility>
 
 namespace trisnap::detail {
 
@@ -40,24 +42,40 @@ std::size_t Snapper::drain()
 }
 
 // Merges a constraint blocked: when one of them can go through now, they are queued again (the
-// two vertices have not moved, so the distance is the one they were found at).
+// two vertices have not moved, so the distance is the one they were found at) and become their
+// ends' candidates; nothing else is left to merge once the queue has drained.
 bool Snapper::retry_parked()
 {
     std::vector<Event> parked;
     parked.swap(m_parked);
+    m_parked_pairs.clear();
     bool any = false;
     for (const Event& e : parked) {
         if (!alive(e.a) || !alive(e.b)) {
             continue;
         }
         m_queue.push(e);
+        m_candidate[e.a] = MergeCandidate{};
+        m_candidate[e.b] = MergeCandidate{};
         any = any || visible(e.a, e.b);
+    }
+    // Each end's smallest parked pair becomes its candidate: nothing else is left to merge.
+    for (const Event& e : parked) {
+        for (const auto [x, other] : {std::pair{e.a, e.b}, std::pair{e.b, e.a}}) {
+            MergeCandidate& c = m_candidate[x];
+            const bool smaller = c.other == MergeCandidate::none ||
+                                 std::tie(e.d2, e.a, e.b) < std::make_tuple(c.d2, std::min(x, c.other), std::max(x, c.other));
+            if (alive(e.a) && alive(e.b) && smaller) {
+                c = MergeCandidate{e.d2, other};
+            }
+        }
     }
     if (!any) { // nothing can go through: keep them parked, drop the re-queued copies
         m_queue = {};
         for (const Event& e : parked) {
             if (alive(e.a) && alive(e.b)) {
                 m_parked.push_back(e);
+                m_parked_pairs.insert(edge_key(e.a, e.b));
             }
         }
     }
@@ -68,7 +86,7 @@ bool Snapper::retry_parked()
 // still carry out. 0 when the local re-discovery missed nothing.
 std::size_t Snapper::count_misses()
 {
-    initial_scan();
+    initial_scan(true);
     std::size_t misses = 0;
     while (!m_queue.empty()) {
         const Event e = m_queue.top();
@@ -98,7 +116,8 @@ void Snapper::collect_unresolved()
 
 SnapperOutcome Snapper::run()
 {
-    initial_scan();
+    m_candidate.resize(m_mesh.vertex_slots());
+    initial_scan(false);
     const cdt::ChangedFaces tracking(m_changed);
     for (;;) {
         ++m_out.rounds;

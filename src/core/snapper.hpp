@@ -52,6 +52,7 @@ struct SnapperOutcome {
     std::size_t guarded = 0;    ///< splits refused by the repeated-split guard
     std::size_t faces_visited = 0; ///< faces the searches walked and changed faces examined
     std::size_t fixpoint_misses = 0; ///< with verify: applicable events left at the end
+    std::size_t peak_queue = 0;  ///< most events the queue held at once (O(vertices), not O(pairs))
     bool converged = true;      ///< false when the operation cap stopped the run
     /// Vertices still closer than the thresholds after the run (cap reached or guard refused).
     std::vector<std::uint32_t> unresolved;

@@ -17,34 +17,11 @@ constexpr std::ptrdiff_t k_max_snaps_per_edge = 4;
 } // namespace
 
 // A merge across a constraint would drag edges through it; such a pair always has a closer
-// vertex-edge event (one of the two is within half their distance of the constraint).
+// vertex-edge event (one of the two is within half their distance of the constraint). A vertex
+// inside the segment blocks it too (that pair is closer). Constraints at a or b do not count.
 bool Snapper::visible(std::uint32_t a, std::uint32_t b)
 {
-    const double d2 = dist2(a, b);
-    m_mesh.search_point(a, d2, d2, m_near, m_edges);
-    const cdt::Point& pa = m_mesh.vertex(a).handle->point();
-    const cdt::Point& pb = m_mesh.vertex(b).handle->point();
-    for (const auto& near : m_near) {
-        const std::uint32_t w = near.second;
-        if (w == b) {
-            continue;
-        }
-        const cdt::Point& pw = m_mesh.vertex(w).handle->point();
-        if (CGAL::collinear(pa, pw, pb) && CGAL::collinear_are_strictly_ordered_along_line(pa, pw, pb)) {
-            return false;
-        }
-    }
-    const cdt::Segment ab(pa, pb);
-    for (const EdgeHit& h : m_edges) {
-        if (h.b == b || h.c == b) {
-            continue;
-        }
-        const cdt::Segment e(m_mesh.vertex(h.b).handle->point(), m_mesh.vertex(h.c).handle->point());
-        if (CGAL::do_intersect(ab, e)) {
-            return false;
-        }
-    }
-    return true;
+    return m_mesh.segment_is_free(a, b);
 }
 
 bool Snapper::guard_allows(std::uint32_t v, std::uint32_t b, std::uint32_t c, bool count_guard)
@@ -114,11 +91,14 @@ bool Snapper::apply_face(const Event& e)
 
 bool Snapper::apply_merge(const Event& e)
 {
-    if (!alive(e.a) || !alive(e.b)) {
+    if (!alive(e.a) || !alive(e.b) || m_parked_pairs.count(edge_key(e.a, e.b)) != 0) {
+        merge_event_gone(e);
         return false;
     }
     if (!visible(e.a, e.b)) {
         m_parked.push_back(e);
+        m_parked_pairs.insert(edge_key(e.a, e.b));
+        merge_event_gone(e);
         return false;
     }
     const VertexRecord& ra = m_mesh.vertex(e.a);

@@ -3,15 +3,17 @@
 
 #include <algorithm>
 #include <array>
+#include <tuple>
+#include <utility>
 
 namespace trisnap::detail {
 
-void Snapper::initial_scan()
+void Snapper::initial_scan(bool every_pair)
 {
     const std::size_t slots = m_mesh.vertex_slots();
     for (std::uint32_t v = 0; v < slots; ++v) {
         if (alive(v)) {
-            discover_point(v, true);
+            discover_point(v, every_pair);
         }
         if (m_meter && (v & 1023) == 1023) {
             m_meter->advance(v, 2 * slots);
@@ -22,19 +24,96 @@ void Snapper::initial_scan()
     }
 }
 
-// Merges with the vertices near v and splits of v into the constrained edges near it. In the
-// first scan every pair is seen from both ends, so only the end with the lower id pushes it.
-void Snapper::discover_point(std::uint32_t v, bool only_higher)
+// Merges of v and splits of v into the constrained edges near it.
+//
+// Merges are not queued pair by pair: in a cluster where k vertices lie within t of each other
+// that is k^2 events (Andorra at 0.01 degrees ran out of memory on them, and popping them was 3/4
+// of the time at 0.001 degrees). Each vertex keeps one merge event in the queue, its candidate:
+// the pair with the smallest key (d2, then ids) among those it may still merge with (alive,
+// within t, not parked this round). Every such pair then has an event in the queue whose key is
+// at most its own: its ends' candidates. A candidate that is popped while it still holds is the
+// smallest of all pairs, so it is the merge the pair-by-pair queue would have popped there; one
+// that no longer holds (an end merged away, or the pair was parked) makes its vertex look for
+// its next candidate, whose key is at least the stale one. Hence the same merges in the same
+// order, the same output, and a queue of O(vertices) events.
+// `every_pair` (the verifying scan) queues every pair, seen from its lower end, as before.
+void Snapper::discover_point(std::uint32_t v, bool every_pair)
 {
-    m_mesh.search_point(v, m_vt2, m_et2, m_near, m_edges);
-    for (const auto& [d2, w] : m_near) {
-        if (!only_higher || v < w) {
-            push(d2, Kind::merge, std::min(v, w), std::max(v, w), 0);
+    // Edges within the edge threshold, and the vertices there: when one is that close the nearest
+    // is among them; otherwise the candidate is looked for out to t.
+    const double near2 = every_pair ? std::max(m_vt2, m_et2) : std::min(m_vt2, m_et2);
+    m_mesh.search_point(v, every_pair ? m_vt2 : near2, m_et2, m_near, m_edges);
+    for (const EdgeHit& h : m_edges) {
+        // Within t of an end of the edge the split is never applicable (it is left to the merge),
+        // and the three vertices never move: such events are not queued.
+        if (h.d2 < m_et2 && dist2(v, h.b) > m_vt2 && dist2(v, h.c) > m_vt2) {
+            push(h.d2, Kind::edge, v, h.b, h.c);
         }
     }
-    for (const EdgeHit& h : m_edges) {
-        if (h.d2 < m_et2) {
-            push(h.d2, Kind::edge, v, h.b, h.c);
+    if (every_pair) {
+        for (const auto& [d2, w] : m_near) {
+            if (v < w) {
+                push(d2, Kind::merge, v, w, 0);
+            }
+        }
+        return;
+    }
+    if (m_near.empty() && m_vt2 > near2) {
+        m_mesh.search_point(v, m_vt2, -1.0, m_near, m_edges);
+    }
+    register_nearest(v);
+}
+
+// Makes the smallest pair of v among m_near (parked pairs left out) its candidate, and queues it.
+// Returns whether there was one.
+bool Snapper::register_nearest(std::uint32_t v)
+{
+    if (m_candidate.size() <= v) {
+        m_candidate.resize(m_mesh.vertex_slots());
+    }
+    m_candidate[v] = MergeCandidate{};
+    bool found = false;
+    std::tuple<double, std::uint32_t, std::uint32_t> best{};
+    std::uint32_t other = MergeCandidate::none;
+    for (const auto& [d2, w] : m_near) {
+        if (!m_parked_pairs.empty() && m_parked_pairs.count(edge_key(v, w)) != 0) {
+            continue;
+        }
+        const auto key = std::make_tuple(d2, std::min(v, w), std::max(v, w));
+        if (!found || key < best) {
+            found = true;
+            best = key;
+            other = w;
+        }
+    }
+    if (found) {
+        m_candidate[v] = MergeCandidate{std::get<0>(best), other};
+        push(std::get<0>(best), Kind::merge, std::min(v, other), std::max(v, other), 0);
+    }
+    return found;
+}
+
+// v's candidate (at squared distance `stale2`) died or was parked: its next one is at least as
+// far, and usually near, so the search grows from twice that distance out to t.
+void Snapper::find_candidate(std::uint32_t v, double stale2)
+{
+    double r2 = std::min(m_vt2, std::max(4 * stale2, m_vt2 / 256));
+    for (;;) {
+        m_mesh.search_point(v, r2, -1.0, m_near, m_edges);
+        if (register_nearest(v) || r2 >= m_vt2) {
+            return;
+        }
+        r2 = std::min(m_vt2, 16 * r2);
+    }
+}
+
+// A merge event that will not be applied (a vertex died, or the pair is parked): a live end whose
+// candidate it was looks for its next one.
+void Snapper::merge_event_gone(const Event& e)
+{
+    for (const auto [x, other] : {std::pair{e.a, e.b}, std::pair{e.b, e.a}}) {
+        if (alive(x) && x < m_candidate.size() && m_candidate[x].other == other) {
+            find_candidate(x, e.d2);
         }
     }
 }
@@ -47,7 +126,7 @@ void Snapper::discover_segment(std::uint32_t b, std::uint32_t c)
     }
     m_mesh.search_segment(b, c, m_et2, m_near);
     for (const auto& [d2, w] : m_near) {
-        if (d2 < m_et2) {
+        if (d2 < m_et2 && dist2(w, b) > m_vt2 && dist2(w, c) > m_vt2) {
             push(d2, Kind::edge, w, std::min(b, c), std::max(b, c));
         }
     }

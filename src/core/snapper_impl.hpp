@@ -3,10 +3,12 @@
 // (finding events) and snapper_apply.cpp (applying them). See snapper.hpp for the rules.
 #include "core/snapper.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <queue>
 #include <tuple>
+#include <unordered_set>
 #include <vector>
 
 namespace trisnap::detail {
@@ -20,6 +22,14 @@ struct Event {
     bool operator>(const Event& o) const { return std::tie(d2, kind, a, b, c) > std::tie(o.d2, o.kind, o.a, o.b, o.c); }
 };
 
+/// A vertex's merge candidate: the pair with the smallest key (d2, then ids) among the pairs it
+/// may still merge with (alive, within t, not parked this round); `other` is none when it has none.
+struct MergeCandidate {
+    static constexpr std::uint32_t none = UINT32_MAX;
+    double d2 = 0;
+    std::uint32_t other = none;
+};
+
 class Snapper {
 public:
     Snapper(Mesh& mesh, const SnapperParams& p, WorkMeter* meter);
@@ -27,8 +37,11 @@ public:
 
 private:
     // snapper_discover.cpp
-    void initial_scan();
-    void discover_point(std::uint32_t v, bool only_higher);
+    void initial_scan(bool every_pair);
+    void discover_point(std::uint32_t v, bool every_pair);
+    bool register_nearest(std::uint32_t v);
+    void find_candidate(std::uint32_t v, double stale2);
+    void merge_event_gone(const Event& e);
     void discover_segment(std::uint32_t b, std::uint32_t c);
     void check_face(cdt::Face_handle f);
     void check_changed_faces();
@@ -47,7 +60,11 @@ private:
     std::size_t count_misses();
     void collect_unresolved();
 
-    void push(double d2, Kind k, std::uint32_t a, std::uint32_t b, std::uint32_t c) { m_queue.push(Event{d2, k, a, b, c}); }
+    void push(double d2, Kind k, std::uint32_t a, std::uint32_t b, std::uint32_t c)
+    {
+        m_queue.push(Event{d2, k, a, b, c});
+        m_out.peak_queue = std::max(m_out.peak_queue, m_queue.size());
+    }
     bool alive(std::uint32_t v) const { return m_mesh.vertex(v).alive; }
     double dist2(std::uint32_t p, std::uint32_t q) const
     {
@@ -65,6 +82,8 @@ private:
     WorkMeter* m_meter;
     std::priority_queue<Event, std::vector<Event>, std::greater<>> m_queue;
     std::vector<Event> m_parked;       ///< merges refused because a constraint lay between
+    std::unordered_set<std::uint64_t> m_parked_pairs; ///< their pairs (edge_key), this round
+    std::vector<MergeCandidate> m_candidate; ///< per vertex id (see discover_point)
     std::vector<void*> m_changed;      ///< faces CGAL created or changed since the last look
     std::vector<std::pair<double, std::uint32_t>> m_near;
     std::vector<EdgeHit> m_edges;

@@ -43,8 +43,9 @@ inline constexpr double k_max_coordinate = 0x1p+500;
 /// work done so far and the work in all, both measured in input vertices (after cleaning): the
 /// triangulation, the snapping, the labelling and the extraction each take their share of them
 /// (core/work_meter.hpp says how). `done` never decreases and the last call has done == total.
-/// Calls come each time the count has grown by 1/256 of the run (at least 4096 vertices) and
-/// at the end of each step, so a caller can redraw a bar and check for Ctrl-C. To cancel,
+/// Calls come each time the count has grown by 1/256 of the run (at least 4096 vertices), at the
+/// end of each step, and every 16,384 snapping events even when the count has not grown (a long
+/// cascade), so a caller can redraw a bar and check for Ctrl-C. To cancel,
 /// throw: the exception leaves snap() as it was thrown, with everything the engine held freed.
 using SnapProgress = std::function<void(std::size_t done, std::size_t total)>;
 

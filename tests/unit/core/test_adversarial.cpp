@@ -1,8 +1,8 @@
-// Adversarial inputs (issue 13): the engine's work must stay near O(n log n) whatever the
-// tolerance. Checked two ways that do not depend on the machine's load: CPU time of the large-t
-// run against the small-t run of the same input (the issue's target: within 10x), and the
-// snapper's own operation count (faces its searches walked) when the input doubles at large t
-// (n log n gives about 2.1x, quadratic 4x, cubic 8x).
+// Adversarial inputs: the engine's work must stay near O(n log n) whatever the tolerance.
+// Checked by counts that do not depend on the machine's load: the snapper's operation count
+// (faces its searches walked) when the input doubles at large t (n log n gives about 2.1x,
+// quadratic 4x, cubic 8x), and the queue's peak against the vertices. The time target (the
+// large-t run within 10x of the small-t run of the same input) lives in bench/adversarial.
 #include "snap_harness.hpp"
 
 #include "core/mesh.hpp"
@@ -45,17 +45,21 @@ const AdversarialCase& find_case(const std::vector<AdversarialCase>& cases, cons
 
 class AdversarialSlow : public ::testing::TestWithParam<const char*> {};
 
-// Vertices closer than t along a line or a circle: the large-t run (thousands of merges) costs at
-// most 10x the small-t run (none). Measured: 3-4x (bench/README.md, "Adversarial").
-TEST_P(AdversarialSlow, LargeToleranceWithinTenTimesTheSmallOne) {
-    const std::vector<AdversarialCase> cases = adversarial_cases(1.0);
-    const AdversarialCase& c = find_case(cases, GetParam());
-    const Cost small = cost_of(c.features, c.small_t);
-    const Cost large = cost_of(c.features, c.large_t);
-    std::cout << c.name << ": small t " << small.cpu_s << " s CPU, large t " << large.cpu_s << " s CPU, "
-              << large.merges << " merges\n";
-    EXPECT_GT(large.merges, vertex_count(c.features) / 10) << "the large tolerance must make real work";
-    EXPECT_LE(large.cpu_s, 10.0 * small.cpu_s + 0.05);
+// Vertices closer than t along a line or a circle: at the large t (thousands of merges) doubling
+// the input must not more than about double the snapper's work (faces its searches walked, a
+// count that does not depend on the machine's load; n log n gives about 2.1x, quadratic 4x).
+// The issue's target, CPU within 10x of the small-t run, is measured by bench/adversarial.
+TEST_P(AdversarialSlow, WorkAtLargeToleranceGrowsNearLinearly) {
+    const std::vector<AdversarialCase> halves = adversarial_cases(0.5);
+    const std::vector<AdversarialCase> fulls = adversarial_cases(1.0);
+    const AdversarialCase& half = find_case(halves, GetParam());
+    const AdversarialCase& full = find_case(fulls, GetParam());
+    const Cost a = cost_of(half.features, half.large_t);
+    const Cost b = cost_of(full.features, full.large_t);
+    std::cout << full.name << " x2: faces " << a.faces << " -> " << b.faces << ", merges " << a.merges << " -> "
+              << b.merges << ", CPU " << a.cpu_s << " -> " << b.cpu_s << " s\n";
+    EXPECT_GT(b.merges, vertex_count(full.features) / 10) << "the large tolerance must make real work";
+    EXPECT_LE(b.faces, 3 * a.faces);
 }
 
 INSTANTIATE_TEST_SUITE_P(Inputs, AdversarialSlow,

@@ -2,7 +2,7 @@
 // bench/compare (issue 4, part 2). One tool per process, so the caller's wait4() gives wall time and
 // peak RSS per tool; this program also prints its own phases and peak RSS as one JSON object.
 //
-//   bench_compare_tools isr|sr|geos IN OUT.gpkg --tolerance T [--layer L] [--pixel-factor F] [--json FILE]
+//   bench_compare_tools isr|sr|geos|floor IN OUT.gpkg --tolerance T [--layer L] [--pixel-factor F] [--json FILE]
 //
 // isr / sr: CGAL Snap_rounding_2 (iterated / plain snap rounding, Halperin & Packer 2002) over the
 //   layer's ring and line segments, deduplicated as undirected segments (shared boundaries once),
@@ -13,8 +13,15 @@
 // geos: GEOSGeom_setPrecision(g, T, 0) per feature (GEOS >= 3.9: OverlayNG, valid output), the
 //   input's fields and FIDs kept, polygons as MultiPolygon, lines as MultiLineString; an empty
 //   result is written as an empty geometry, a GEOS failure leaves the feature out (both counted).
+// floor: what any CDT-based snapper must at least do, for the "within 2x of the floor" target:
+//   read the layer (features with their fields, as trisnap and geos do), build CGAL's plain
+//   constrained Delaunay triangulation (Epick, exact predicates, crossings constructed in doubles)
+//   of its unique ring and line segments in one bulk insertion, and write the features unchanged
+//   (same fields, FIDs, geometry) in one transaction. T is ignored.
 // Exit codes: 0 ok, 1 I/O or tool error, 2 bad arguments.
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Snap_rounding_2.h>
 #include <CGAL/Snap_rounding_traits_2.h>
 
@@ -331,12 +338,76 @@ void run_geos(Input& in, const std::string& out_path, double grid, Json& stats)
 
 } // namespace
 
+// ---------------------------------------------------------------- the read + CDT + write floor
+
+using FloorKernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using FloorCdt = CGAL::Constrained_Delaunay_triangulation_2<FloorKernel, CGAL::Default, CGAL::Exact_predicates_tag>;
+
+/// Copies every feature (fields, FID, geometry) to OUT while collecting its segments.
+void copy_layer(Input& in, GDALDataset& out, std::vector<Segment>& segments, Json& stats)
+{
+    OGRLayer* layer = create_layer(out, in.name, in.layer->GetSpatialRef(), in.layer->GetGeomType());
+    OGRFeatureDefn* in_defn = in.layer->GetLayerDefn();
+    for (int i = 0; i < in_defn->GetFieldCount(); ++i) {
+        if (layer->CreateField(in_defn->GetFieldDefn(i)) != OGRERR_NONE) {
+            throw io_error(std::string("cannot create field ") + in_defn->GetFieldDefn(i)->GetNameRef());
+        }
+    }
+    std::int64_t features = 0;
+    in.layer->ResetReading();
+    for (const auto& feature : *in.layer) {
+        ++features;
+        if (const OGRGeometry* g = feature->GetGeometryRef()) {
+            add_segments(*g, segments);
+        }
+        OGRFeature copy(layer->GetLayerDefn());
+        copy.SetFrom(feature.get(), TRUE);
+        copy.SetFID(feature->GetFID());
+        write_feature(*layer, copy);
+    }
+    stats["features_in"] = features;
+    stats["features_out"] = features;
+}
+
+void run_floor(Input& in, const std::string& out_path, Json& stats)
+{
+    auto start = Clock::now();
+    DatasetPtr out = create_output(out_path);
+    out->StartTransaction(TRUE);
+    std::vector<Segment> segments;
+    copy_layer(in, *out, segments, stats);
+    std::sort(segments.begin(), segments.end());
+    segments.erase(std::unique(segments.begin(), segments.end()), segments.end());
+    stats["segments_unique"] = segments.size();
+    const double read_write_s = seconds_since(start);
+    start = Clock::now();
+    std::vector<FloorKernel::Point_2> points;
+    std::vector<std::pair<std::size_t, std::size_t>> indices;
+    points.reserve(2 * segments.size());
+    indices.reserve(segments.size());
+    for (const Segment& s : segments) {
+        points.emplace_back(s[0], s[1]);
+        points.emplace_back(s[2], s[3]);
+        indices.emplace_back(points.size() - 2, points.size() - 1);
+    }
+    FloorCdt cdt;
+    cdt.insert_constraints(points.begin(), points.end(), indices.begin(), indices.end());
+    stats["cdt_vertices"] = cdt.number_of_vertices();
+    stats["compute_s"] = seconds_since(start);
+    start = Clock::now();
+    if (out->CommitTransaction() != OGRERR_NONE) {
+        throw io_error(out_path + ": cannot commit: " + CPLGetLastErrorMsg());
+    }
+    out.reset();
+    stats["read_write_s"] = read_write_s + seconds_since(start);
+}
+
 int main(int argc, char** argv)
 {
     CLI::App app{"run one comparison tool (CGAL ISR/SR or GEOS setPrecision) on one layer; see bench/README.md"};
     std::string tool, in_path, out_path, layer_name, json_path;
     double tolerance = 0, pixel_factor = 1;
-    app.add_option("tool", tool, "isr | sr | geos")->required()->check(CLI::IsMember({"isr", "sr", "geos"}));
+    app.add_option("tool", tool, "isr | sr | geos | floor")->required()->check(CLI::IsMember({"isr", "sr", "geos", "floor"}));
     app.add_option("IN", in_path, "input vector dataset")->required();
     app.add_option("OUT", out_path, "output GeoPackage (replaced)")->required();
     app.add_option("--layer", layer_name, "input layer (default: the only one)");
@@ -364,6 +435,8 @@ int main(int argc, char** argv)
         if (tool == "geos") {
             stats["grid"] = tolerance;
             run_geos(in, out_path, tolerance, stats);
+        } else if (tool == "floor") {
+            run_floor(in, out_path, stats);
         } else {
             stats["pixel"] = pixel_factor * tolerance;
             run_snap_rounding(tool == "isr", in, out_path, pixel_factor * tolerance, stats);

@@ -123,3 +123,19 @@ if [[ -f "$andorra" ]]; then
 else
   echo "run_smoke: cluster skipped: data set absent: $andorra"
 fi
+
+# Adversarial inputs: each at a small and a large tolerance, the tenth sizes plus Andorra and
+# JTS's failure case 4 (skipped when ../shared/data is absent); prints the large/small ratios.
+adversarial="$(find_binary bench_adversarial "${BENCH_ADVERSARIAL:-}")"
+timeout 300 python3 "$root/bench/adversarial" --bench "$adversarial" \
+  --json "$root/bench/results/adversarial_smoke.json" \
+  || { echo "run_smoke: bench/adversarial failed" >&2; exit 1; }
+check_results "$root/bench/results/adversarial_smoke.json"
+
+# trisnap against GEOS per feature and the read + CDT + write floor, one run on Andorra.
+if [[ -f "$andorra" ]]; then
+  timeout 300 python3 "$root/bench/vs-geos" --runs 1 --layers andorra \
+    --tools "$compare_tools" || { echo "run_smoke: bench/vs-geos failed" >&2; exit 1; }
+else
+  echo "run_smoke: vs-geos skipped: data set absent: $andorra"
+fi

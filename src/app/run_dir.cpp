@@ -1,5 +1,6 @@
 #include "app/run_dir.hpp"
 
+#include "app/build_id.hpp"
 #include "app/pipeline.hpp"
 #include "app/version.hpp"
 #include "config/errors.hpp"
@@ -36,6 +37,23 @@ std::string changed_file(const nlohmann::json& planned, const nlohmann::json& no
     return b.size() > a.size() ? b[a.size()].value("path", std::string()) : std::string();
 }
 
+// Every step of a run must be the build that planned it: two builds of one version can snap a
+// tile to other bytes (an engine fix), and tiles of two builds would then disagree at the seams.
+// A snap's work directory records no build (its --resume checks the version only): not refused here.
+void check_build(const nlohmann::json& manifest, const std::string& where)
+{
+    if (!manifest.contains("cluster")) {
+        return;
+    }
+    const nlohmann::json& build = manifest.value("build", nlohmann::json());
+    const std::string planned = build.is_string() ? build.get<std::string>() : std::string("(none recorded)");
+    if (planned != build_id()) {
+        throw argument_error(fmt::format("{}: planned by trisnap build {}, this is build {}; plan it again with this "
+                                         "build, or run every step with the build that planned it", where, planned,
+                                         build_id()));
+    }
+}
+
 std::string text_of(const nlohmann::json& object, const char* key)
 {
     return object.at(key).get<std::string>();
@@ -46,6 +64,7 @@ std::string text_of(const nlohmann::json& object, const char* key)
 std::string cluster_manifest(const Plan& plan, const SnapArgs& args)
 {
     nlohmann::ordered_json m = nlohmann::ordered_json::parse(run_manifest(plan));
+    m["build"] = build_id();
     m["cluster"] = {
         {"input", args.input},
         {"layer", args.layers.empty() ? std::string() : args.layers.front()}, // plan refuses several
@@ -86,6 +105,7 @@ void RunDir::load_manifest()
         throw argument_error(fmt::format("{}: planned by trisnap {}, this is trisnap {}; plan it again with this version, "
                                          "or run every step with trisnap {}", where, version, k_version, version));
     }
+    check_build(m, where);
     if (!m.contains("cluster")) {
         throw argument_error(where + ": the work directory of a `trisnap snap` run, not a run directory made by trisnap plan");
     }
@@ -107,6 +127,7 @@ void RunDir::load_manifest()
     }
     nlohmann::json run = m;
     run.erase("cluster");
+    run.erase("build");
     m_run_manifest = run.dump();
 }
 

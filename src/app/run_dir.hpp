@@ -6,13 +6,15 @@
 //                      task has done its share, shard-I-of-N;
 //   trisnap stitch     merges and snaps again where seams disagree, and writes OUT.
 // manifest.json is the work directory's manifest (run_manifest(): version, the input's files
-// with sizes and times, layer, filters, every option that changes the output) plus a "cluster"
-// object with what the later commands need without the original command line: the input's
-// path, layer, filters and open options, the resolved settings as TOML, and the tolerance in
-// layer units (exact) with how it was derived. Nothing in the directory is removed by trisnap.
+// with sizes and times, layer, filters, every option that changes the output), the build that
+// planned it ("build": build_id(), app/build_id.hpp), and a "cluster" object with what the later
+// commands need without the original command line: the input's path, layer, filters and open
+// options, the resolved settings as TOML, and the tolerance in layer units (exact) with how it
+// was derived. Nothing in the directory is removed by trisnap.
 // Refused, with one line naming what differs (argument_error): a directory with no run, the
-// work directory of a `trisnap snap` run, a run planned by another trisnap version, a plan that
-// did not finish, and (stitch) an input whose files changed since the plan.
+// work directory of a `trisnap snap` run, a run planned by another trisnap version or by another
+// build of this version (the line names the build that planned it and the one running), a plan
+// that did not finish, and (stitch) an input whose files changed since the plan.
 #include "app/options.hpp"
 #include "app/plan.hpp"
 #include "app/work_dir.hpp"

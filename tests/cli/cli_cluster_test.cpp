@@ -3,7 +3,7 @@
 // Kubernetes Indexed Job or AWS Batch set them), then `trisnap stitch`. The output must have the
 // bytes of `trisnap snap` with the same options on one machine; a killed task run again changes
 // nothing; a stitch with a shard missing names the tiles and shards; a run directory made by
-// another version or for another input is refused.
+// another version or build, or for another input, is refused.
 #include "cli_support.hpp"
 
 #include <gtest/gtest.h>
@@ -338,15 +338,37 @@ TEST(CliCluster, RunDirOfAnotherVersionOrInputIsRefused)
     r = run_trisnap(dir, {"stitch", run_dir, dir.path("out.gpkg")});
     expect_error(r, 2, run_dir + ": the input changed since trisnap plan (" + fs::weakly_canonical(dir.path("in.gpkg")).string());
     EXPECT_FALSE(fs::exists(dir.path("out.gpkg")));
-    // Another version.
+    // Another build of this version (a commit or an edit apart), then none recorded (a plan
+    // made before builds were recorded), then another version.
     const std::string manifest = run_dir + "/manifest.json";
-    nlohmann::json m = read_json(manifest);
+    const nlohmann::json planned = read_json(manifest);
+    const std::string build = planned.value("build", std::string());
+    ASSERT_EQ(build.rfind(planned["version"].get<std::string>() + "+", 0), 0u) << "build id: " << build;
+    r = run_trisnap(dir, {"--version"});
+    EXPECT_NE(r.out.find("(build " + build + ")"), std::string::npos) << "--version names the build: " << r.out;
+    nlohmann::json m = planned;
+    m["build"] = "0.1.0+g0123456789ab";
+    std::ofstream(manifest) << m.dump(2);
+    r = run_trisnap(dir, {"snap-tiles", run_dir, "--shard", "0", "--num-shards", "1"});
+    expect_error(r, 2, run_dir + ": planned by trisnap build 0.1.0+g0123456789ab, this is build " + build +
+                           "; plan it again with this build, or run every step with the build that planned it");
+    r = run_trisnap(dir, {"stitch", run_dir, dir.path("out.gpkg")});
+    expect_error(r, 2, "planned by trisnap build 0.1.0+g0123456789ab, this is build " + build);
+    m.erase("build");
+    std::ofstream(manifest) << m.dump(2);
+    r = run_trisnap(dir, {"snap-tiles", run_dir, "--shard", "0", "--num-shards", "1"});
+    expect_error(r, 2, "planned by trisnap build (none recorded), this is build " + build);
+    m = planned;
     m["version"] = "0.0.1";
     std::ofstream(manifest) << m.dump(2);
     r = run_trisnap(dir, {"snap-tiles", run_dir, "--shard", "0", "--num-shards", "1"});
     expect_error(r, 2, run_dir + ": planned by trisnap 0.0.1, this is trisnap ");
     r = run_trisnap(dir, {"stitch", run_dir, dir.path("out.gpkg")});
     expect_error(r, 2, "planned by trisnap 0.0.1");
+    // The manifest as planned is accepted again (only the build and version were the cause).
+    std::ofstream(manifest) << planned.dump(2);
+    r = run_trisnap(dir, {"snap-tiles", run_dir, "--shard", "0", "--num-shards", "1", "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
 }
 
 TEST(CliCluster, OtherDirectoriesAreRefused)

@@ -10,7 +10,8 @@
 // planned it ("build": build_id(), app/build_id.hpp), and a "cluster" object with what the later
 // commands need without the original command line: the input's path, layer, filters and open
 // options, the resolved settings as TOML, and the tolerance in layer units (exact) with how it
-// was derived. Nothing in the directory is removed by trisnap.
+// was derived. Nothing in the directory is removed by trisnap, except the temporary files that
+// killed tasks on this host left (remove_stale_temporaries()).
 // Refused, with one line naming what differs (argument_error): a directory with no run, the
 // work directory of a `trisnap snap` run, a run planned by another trisnap version or by another
 // build of this version (the line names the build that planned it and the one running), a plan
@@ -37,6 +38,9 @@ struct PlanRecord {
     std::size_t suggested = 0;        ///< suggest_shards()
 };
 
+/// This machine's host name, as temporary file names and shard markers give it.
+std::string host_name();
+
 /// The manifest `trisnap plan` writes into RUN_DIR.
 std::string cluster_manifest(const Plan& plan, const SnapArgs& args);
 
@@ -62,6 +66,10 @@ public:
     std::vector<std::size_t> shard_counts_seen() const;
     /// Marks shard `index` of `count` finished.
     void mark_finished(std::size_t index, std::size_t count, const std::string& summary);
+    /// Removes the temporary files (NAME.tmp-HOST-PID, tiling/work_store.hpp) that processes of
+    /// this host which no longer run left behind (a task killed while writing a result); those of
+    /// other hosts, or of a process still running here, are kept. Returns how many it removed.
+    std::size_t remove_stale_temporaries();
     /// Throws argument_error unless `plan` (the input opened again) is the planned one: same
     /// files with the same sizes and times, layer, filters, tolerance and options.
     void check_input(const Plan& plan) const;

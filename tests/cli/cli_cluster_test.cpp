@@ -438,6 +438,18 @@ TEST(CliCluster, StaleTemporariesOfKilledTasksOnThisHostAreRemoved)
     EXPECT_FALSE(read_layer(dir.path("out.gpkg")).empty());
 }
 
+TEST(CliCluster, PlanTakesOneLayerAndItsHelpSaysSo)
+{
+    TempDir dir;
+    RunOutput r = run_trisnap(dir, {"plan", "--help"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("one layer per cluster run"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("repeat it"), std::string::npos) << "plan's help offers several layers: " << r.out;
+    const std::string in = write_snapping_gpkg(dir);
+    r = run_trisnap(dir, {"plan", in, dir.path("run"), "--tolerance", "0.01", "--layer", "a", "--layer", "b"});
+    expect_error(r, 2, "trisnap plan takes one --layer");
+}
+
 TEST(CliCluster, OtherDirectoriesAreRefused)
 {
     TempDir dir;

@@ -1,5 +1,6 @@
 #include "app/about.hpp"
 
+#include "app/build_id.hpp"
 #include "app/version.hpp"
 #include "io/output_driver.hpp"
 
@@ -67,7 +68,7 @@ void add_printing_flag(CLI::App& app, const std::string& name, const std::string
 
 std::string version_text()
 {
-    return fmt::format("trisnap {}\n", k_version) +
+    return fmt::format("trisnap {} (build {})\n", k_version, build_id()) +
            fmt::format("GDAL {} (loaded), PROJ {}, GEOS {}\n", GDALVersionInfo("RELEASE_NAME"), proj_version(),
                        geos_version()) +
            fmt::format("CGAL {} (compiled in)\n", TRISNAP_CGAL_VERSION) +

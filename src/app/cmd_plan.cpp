@@ -77,6 +77,9 @@ public:
         CLI::App* app = parent.add_subcommand("plan", "read a layer into a run directory and plan its tiles for "
                                                       "snap-tiles tasks (a snap split across a cluster)");
         add_input_options(*app, m_args);
+        // A cluster run is one layer (check_arguments): snap's "repeat it" does not hold here.
+        app->get_option("--layer")->description("input layer (default: the only polygon/line layer); one layer per "
+                                                "cluster run (several layers together: trisnap snap)");
         app->add_option("RUN_DIR", m_run_dir, "the run directory to make, on storage every task sees (new or empty)");
         add_engine_options(*app, m_args);
         add_settings_options(*app, m_args);

@@ -1,6 +1,7 @@
 // `trisnap snap-tiles RUN_DIR [--shard I] [--num-shards N]`: one array task of a cluster run
 // (app/run_dir.hpp, app/shards.hpp). Snaps the tiles of shard I that have no result yet, each
-// committed by temp file + rename, so a task that was killed or requeued simply runs again.
+// committed by temp file + rename, so a task that was killed or requeued simply runs again (and
+// removes the temporary files the killed one left, when it ran on this host).
 // Needs only RUN_DIR, never the input. Leaves shard-I-of-N when its share is done.
 #include "app/command.hpp"
 #include "app/memory.hpp"
@@ -14,7 +15,6 @@
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
-#include <unistd.h>
 
 #include <chrono>
 #include <cstdlib>
@@ -54,18 +54,13 @@ RunBudget task_budget(const RunDir& dir, const std::optional<std::string>& flag)
     return b;
 }
 
-std::string host_name()
-{
-    char name[256] = {};
-    return ::gethostname(name, sizeof name - 1) == 0 ? std::string(name) : std::string("unknown");
-}
-
 struct Share {
     std::vector<bool> mine;     ///< per plan leaf
     std::size_t tiles = 0;
     std::uint64_t vertices = 0;
     std::size_t done_before = 0;
     std::size_t snapped = 0;    ///< tiles this process snapped
+    std::size_t stale = 0;      ///< temporary files of killed tasks removed at the start
 };
 
 Share share_of(const stitch::TiledRun& run, const ShardIndex& shard)
@@ -116,6 +111,7 @@ public:
         const auto start = std::chrono::steady_clock::now();
         RunDir dir = RunDir::open(m_run_dir);
         const ShardIndex shard = resolve_shard(m_shard, m_num_shards, dir.record().shards, env);
+        const std::size_t stale = dir.remove_stale_temporaries();
         const RunBudget budget = task_budget(dir, m_args.memory_limit);
         stitch::TilingOptions tiling = dir.tiling();
         tiling.threads = task_threads(m_args.threads);
@@ -131,13 +127,14 @@ public:
         Share share = share_of(phases.tiles(), shard);
         phases.snap([&](std::size_t g) { return g < share.mine.size() && share.mine[g]; });
         share.snapped = phases.tiles().stats().tile_runs;
+        share.stale = stale;
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         dir.mark_finished(shard.index, shard.count, summary_json(shard, share, seconds));
         if (m_args.quiet == 0) {
             std::cout << fmt::format("shard {} of {} ({}): {} ({} input vertices), {} snapped now, {} done before; "
-                                     "{:.2f} s, peak memory {}\n", shard.index, shard.count, shard.source,
+                                     "{:.2f} s, peak memory {}{}\n", shard.index, shard.count, shard.source,
                                      count_of(share.tiles, "tile"), share.vertices, share.snapped,
-                                     share.done_before, seconds, format_size(peak_rss()));
+                                     share.done_before, seconds, format_size(peak_rss()), stale_note(share.stale));
         }
         return 0;
     }
@@ -145,10 +142,19 @@ public:
 private:
     static std::string summary_json(const ShardIndex& shard, const Share& share, double seconds)
     {
+        const std::string host = host_name();
         const nlohmann::ordered_json j = {{"shard", shard.index}, {"shards", shard.count}, {"tiles", share.tiles},
                                           {"vertices", share.vertices}, {"snapped", share.snapped}, {"done_before", share.done_before},
-                                          {"seconds", seconds}, {"peak_rss", peak_rss()}, {"host", host_name()}};
+                                          {"seconds", seconds}, {"peak_rss", peak_rss()},
+                                          {"host", host.empty() ? std::string("unknown") : host},
+                                          {"stale_temporaries_removed", share.stale}};
         return j.dump(2);
+    }
+
+    static std::string stale_note(std::size_t stale)
+    {
+        return stale == 0 ? std::string() : fmt::format("; removed {} left by killed tasks on this host",
+                                                         count_of(stale, "temporary file"));
     }
 
     SnapArgs m_args;

@@ -1,5 +1,6 @@
 #include "app/run_dir.hpp"
 
+#include "app/build_id.hpp"
 #include "app/pipeline.hpp"
 #include "app/version.hpp"
 #include "config/errors.hpp"
@@ -7,10 +8,15 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <set>
+
+#include <signal.h>
+#include <unistd.h>
 
 namespace trisnap {
 namespace fs = std::filesystem;
@@ -36,16 +42,63 @@ std::string changed_file(const nlohmann::json& planned, const nlohmann::json& no
     return b.size() > a.size() ? b[a.size()].value("path", std::string()) : std::string();
 }
 
+// Every step of a run must be the build that planned it: two builds of one version can snap a
+// tile to other bytes (an engine fix), and tiles of two builds would then disagree at the seams.
+// A snap's work directory records no build (its --resume checks the version only): not refused here.
+void check_build(const nlohmann::json& manifest, const std::string& where)
+{
+    if (!manifest.contains("cluster")) {
+        return;
+    }
+    const nlohmann::json& build = manifest.value("build", nlohmann::json());
+    const std::string planned = build.is_string() ? build.get<std::string>() : std::string("(none recorded)");
+    if (planned != build_id()) {
+        throw argument_error(fmt::format("{}: planned by trisnap build {}, this is build {}; plan it again with this "
+                                         "build, or run every step with the build that planned it", where, planned,
+                                         build_id()));
+    }
+}
+
 std::string text_of(const nlohmann::json& object, const char* key)
 {
     return object.at(key).get<std::string>();
 }
 
+// The PID in NAME.tmp-HOST-PID when HOST is `host` (the format of tiling/work_store.cpp's
+// temp_suffix()); nothing for another host or another file.
+std::optional<pid_t> temporary_owner(const std::string& name, const std::string& host)
+{
+    const std::string mark = ".tmp-" + host + "-";
+    const std::size_t at = name.rfind(mark);
+    if (at == std::string::npos || at == 0) {
+        return std::nullopt;
+    }
+    const std::string digits = name.substr(at + mark.size());
+    if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) {
+        return std::nullopt;
+    }
+    return static_cast<pid_t>(std::stol(digits));
+}
+
+// A process that exists, or that we may not signal, counts as running: only a PID that names no
+// process at all (ESRCH) frees its temporary files.
+bool process_running(pid_t pid)
+{
+    return pid <= 0 || ::kill(pid, 0) == 0 || errno != ESRCH;
+}
+
 } // namespace
+
+std::string host_name()
+{
+    char name[256] = {};
+    return ::gethostname(name, sizeof name - 1) == 0 ? std::string(name) : std::string();
+}
 
 std::string cluster_manifest(const Plan& plan, const SnapArgs& args)
 {
     nlohmann::ordered_json m = nlohmann::ordered_json::parse(run_manifest(plan));
+    m["build"] = build_id();
     m["cluster"] = {
         {"input", args.input},
         {"layer", args.layers.empty() ? std::string() : args.layers.front()}, // plan refuses several
@@ -86,6 +139,7 @@ void RunDir::load_manifest()
         throw argument_error(fmt::format("{}: planned by trisnap {}, this is trisnap {}; plan it again with this version, "
                                          "or run every step with trisnap {}", where, version, k_version, version));
     }
+    check_build(m, where);
     if (!m.contains("cluster")) {
         throw argument_error(where + ": the work directory of a `trisnap snap` run, not a run directory made by trisnap plan");
     }
@@ -107,6 +161,7 @@ void RunDir::load_manifest()
     }
     nlohmann::json run = m;
     run.erase("cluster");
+    run.erase("build");
     m_run_manifest = run.dump();
 }
 
@@ -151,6 +206,24 @@ std::vector<std::size_t> RunDir::shard_counts_seen() const
 void RunDir::mark_finished(std::size_t index, std::size_t count, const std::string& summary)
 {
     m_work.store().put(shard_file(index, count), summary);
+}
+
+std::size_t RunDir::remove_stale_temporaries()
+{
+    const std::string host = host_name();
+    std::vector<fs::path> stale;
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(path(), ec)) {
+        const std::optional<pid_t> owner = temporary_owner(entry.path().filename().string(), host);
+        if (owner && !process_running(*owner)) {
+            stale.push_back(entry.path());
+        }
+    }
+    std::size_t removed = 0;
+    for (const fs::path& file : stale) {
+        removed += fs::remove(file, ec) ? 1 : 0; // another task may have removed it first
+    }
+    return removed;
 }
 
 void RunDir::check_input(const Plan& plan) const

@@ -2,8 +2,9 @@
 // processes in parallel, each told its shard only by an array-task variable (as Slurm, a
 // Kubernetes Indexed Job or AWS Batch set them), then `trisnap stitch`. The output must have the
 // bytes of `trisnap snap` with the same options on one machine; a killed task run again changes
-// nothing; a stitch with a shard missing names the tiles and shards; a run directory made by
-// another version or for another input is refused.
+// nothing (and the temporary files it left on this host are removed); a stitch with a shard
+// missing names the tiles and shards; a run directory made by another version or build, or for
+// another input, is refused.
 #include "cli_support.hpp"
 
 #include <gtest/gtest.h>
@@ -17,6 +18,7 @@
 #include <spawn.h>
 #include <sys/wait.h>
 #include <thread>
+#include <unistd.h>
 
 extern char** environ;
 
@@ -266,6 +268,10 @@ TEST(CliCluster, KilledShardRunAgainGivesTheSameBytes)
     run_slurm_array(dir, run_dir, 2);
     EXPECT_GE(read_json(run_dir + "/shard-0-of-2")["done_before"].get<std::size_t>(), done)
         << "the tiles the killed task committed are not snapped again";
+    for (const auto& entry : fs::directory_iterator(run_dir)) {
+        EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos)
+            << entry.path() << ": the killed task's temporary file outlived the tasks run after it";
+    }
     const std::string out = dir.path("sharded.gpkg");
     const RunOutput r = run_trisnap(dir, {"stitch", run_dir, out, "-q"});
     ASSERT_EQ(r.code, 0) << r.err;
@@ -338,15 +344,110 @@ TEST(CliCluster, RunDirOfAnotherVersionOrInputIsRefused)
     r = run_trisnap(dir, {"stitch", run_dir, dir.path("out.gpkg")});
     expect_error(r, 2, run_dir + ": the input changed since trisnap plan (" + fs::weakly_canonical(dir.path("in.gpkg")).string());
     EXPECT_FALSE(fs::exists(dir.path("out.gpkg")));
-    // Another version.
+    // Another build of this version (a commit or an edit apart), then none recorded (a plan
+    // made before builds were recorded), then another version.
     const std::string manifest = run_dir + "/manifest.json";
-    nlohmann::json m = read_json(manifest);
+    const nlohmann::json planned = read_json(manifest);
+    const std::string build = planned.value("build", std::string());
+    ASSERT_EQ(build.rfind(planned["version"].get<std::string>() + "+", 0), 0u) << "build id: " << build;
+    r = run_trisnap(dir, {"--version"});
+    EXPECT_NE(r.out.find("(build " + build + ")"), std::string::npos) << "--version names the build: " << r.out;
+    nlohmann::json m = planned;
+    m["build"] = "0.1.0+g0123456789ab";
+    std::ofstream(manifest) << m.dump(2);
+    r = run_trisnap(dir, {"snap-tiles", run_dir, "--shard", "0", "--num-shards", "1"});
+    expect_error(r, 2, run_dir + ": planned by trisnap build 0.1.0+g0123456789ab, this is build " + build +
+                           "; plan it again with this build, or run every step with the build that planned it");
+    r = run_trisnap(dir, {"stitch", run_dir, dir.path("out.gpkg")});
+    expect_error(r, 2, "planned by trisnap build 0.1.0+g0123456789ab, this is build " + build);
+    m.erase("build");
+    std::ofstream(manifest) << m.dump(2);
+    r = run_trisnap(dir, {"snap-tiles", run_dir, "--shard", "0", "--num-shards", "1"});
+    expect_error(r, 2, "planned by trisnap build (none recorded), this is build " + build);
+    m = planned;
     m["version"] = "0.0.1";
     std::ofstream(manifest) << m.dump(2);
     r = run_trisnap(dir, {"snap-tiles", run_dir, "--shard", "0", "--num-shards", "1"});
     expect_error(r, 2, run_dir + ": planned by trisnap 0.0.1, this is trisnap ");
     r = run_trisnap(dir, {"stitch", run_dir, dir.path("out.gpkg")});
     expect_error(r, 2, "planned by trisnap 0.0.1");
+    // The manifest as planned is accepted again (only the build and version were the cause).
+    std::ofstream(manifest) << planned.dump(2);
+    r = run_trisnap(dir, {"snap-tiles", run_dir, "--shard", "0", "--num-shards", "1", "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+}
+
+/// A PID that names no process: a child that ran and was reaped.
+pid_t dead_pid()
+{
+    pid_t pid = -1;
+    char arg0[] = "true";
+    char* argv[] = {arg0, nullptr};
+    if (posix_spawnp(&pid, "true", nullptr, nullptr, argv, environ) != 0) {
+        return -1;
+    }
+    int status = 0;
+    waitpid(pid, &status, 0);
+    return pid;
+}
+
+std::string this_host()
+{
+    char name[256] = {};
+    gethostname(name, sizeof name - 1);
+    return name;
+}
+
+// A task killed while writing leaves NAME.tmp-HOST-PID; the next task on that host removes the
+// ones whose process is gone, and keeps those of live processes and of other hosts.
+TEST(CliCluster, StaleTemporariesOfKilledTasksOnThisHostAreRemoved)
+{
+    TempDir dir;
+    const std::string run_dir = small_run(dir, {"--num-shards", "2"});
+    const pid_t dead = dead_pid();
+    ASSERT_GT(dead, 0);
+    ASSERT_NE(kill(dead, 0), 0) << "pid " << dead << " was taken again";
+    const std::string host = this_host();
+    const std::vector<std::string> stale{"result-0.tmp-" + host + "-" + std::to_string(dead),
+                                         "seams-1.tmp-" + host + "-" + std::to_string(dead)};
+    const std::vector<std::string> kept{"result-2.tmp-" + host + "-" + std::to_string(getpid()), // a live process
+                                        "result-3.tmp-" + host + "x-" + std::to_string(dead),    // another host
+                                        "result-4.tmp-" + host + "-" + std::to_string(dead) + "x"}; // not a PID
+    for (const std::string& name : stale) {
+        std::ofstream(run_dir + "/" + name) << "partial";
+    }
+    for (const std::string& name : kept) {
+        std::ofstream(run_dir + "/" + name) << "partial";
+    }
+    RunOutput r = run_trisnap(dir, {"snap-tiles", run_dir, "--shard", "0"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    EXPECT_NE(r.out.find("; removed 2 temporary files left by killed tasks on this host\n"), std::string::npos) << r.out;
+    for (const std::string& name : stale) {
+        EXPECT_FALSE(fs::exists(run_dir + "/" + name)) << name << " is stale: its process is gone";
+    }
+    for (const std::string& name : kept) {
+        EXPECT_TRUE(fs::exists(run_dir + "/" + name)) << name << " must be kept";
+    }
+    EXPECT_EQ(read_json(run_dir + "/shard-0-of-2")["stale_temporaries_removed"], 2);
+    r = run_trisnap(dir, {"snap-tiles", run_dir, "--shard", "1", "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(read_json(run_dir + "/shard-1-of-2")["stale_temporaries_removed"], 0);
+    r = run_trisnap(dir, {"stitch", run_dir, dir.path("out.gpkg"), "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_FALSE(read_layer(dir.path("out.gpkg")).empty());
+}
+
+TEST(CliCluster, PlanTakesOneLayerAndItsHelpSaysSo)
+{
+    TempDir dir;
+    RunOutput r = run_trisnap(dir, {"plan", "--help"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("one layer per cluster run"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("repeat it"), std::string::npos) << "plan's help offers several layers: " << r.out;
+    const std::string in = write_snapping_gpkg(dir);
+    r = run_trisnap(dir, {"plan", in, dir.path("run"), "--tolerance", "0.01", "--layer", "a", "--layer", "b"});
+    expect_error(r, 2, "trisnap plan takes one --layer");
 }
 
 TEST(CliCluster, OtherDirectoriesAreRefused)

@@ -121,6 +121,7 @@ std::string run_manifest(const Plan& plan)
     nlohmann::ordered_json m = {
         {"tool", "trisnap"},
         {"version", k_version},
+        {"work_format", stitch::k_work_format},
         {"input", {{"path", plan.input_path}, {"files", input_files(plan)}, {"layer", layer_list(plan)},
                    {"where", plan.layer->GetAttrQueryString() ? plan.layer->GetAttrQueryString() : ""},
                    {"bbox", plan.bbox}}},

@@ -1,14 +1,12 @@
-// The work directory: records round-trip bit for bit (z, NaN payloads, negative zeros), files
-// appear only when committed, damaged files are refused; the vertex sample does not depend on
-// input order; a plan survives save/load and leaf splits; a tiled run on a directory store with
-// a small memory pool (tiles split to fit) and interrupted between tiles gives the untiled
-// output.
+// The work directory (its records: test_records.cpp): files appear only when committed, damaged
+// files are refused; the vertex sample does not depend on input order; a plan survives
+// save/load and leaf splits; a tiled run on a directory store with a small memory pool (tiles
+// split to fit) and interrupted between tiles gives the untiled output.
 #include "generators.hpp"
 #include "tiled_check.hpp"
 
 #include "stitch/spool.hpp"
 #include "stitch/tiled_snap.hpp"
-#include "tiling/records.hpp"
 #include "tiling/sample.hpp"
 #include "tiling/work_store.hpp"
 #include "core/wkt.hpp"
@@ -26,104 +24,6 @@ namespace trisnap {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::uint64_t bits(double v) { return std::bit_cast<std::uint64_t>(v); }
-
-void expect_same_bits(const Geometry& a, const Geometry& b)
-{
-    ASSERT_EQ(a.type, b.type);
-    ASSERT_EQ(a.has_z, b.has_z);
-    auto same = [&](const Path& p, const Path& q) {
-        ASSERT_EQ(p.size(), q.size());
-        for (std::size_t i = 0; i < p.size(); ++i) {
-            EXPECT_EQ(bits(p[i].x), bits(q[i].x));
-            EXPECT_EQ(bits(p[i].y), bits(q[i].y));
-            if (a.has_z) {
-                EXPECT_EQ(bits(p[i].z), bits(q[i].z));
-            } else {
-                EXPECT_TRUE(std::isnan(q[i].z));
-            }
-        }
-    };
-    ASSERT_EQ(a.polygons.size(), b.polygons.size());
-    for (std::size_t p = 0; p < a.polygons.size(); ++p) {
-        ASSERT_EQ(a.polygons[p].rings.size(), b.polygons[p].rings.size());
-        for (std::size_t r = 0; r < a.polygons[p].rings.size(); ++r) {
-            same(a.polygons[p].rings[r], b.polygons[p].rings[r]);
-        }
-    }
-    ASSERT_EQ(a.lines.size(), b.lines.size());
-    for (std::size_t l = 0; l < a.lines.size(); ++l) {
-        same(a.lines[l], b.lines[l]);
-    }
-}
-
-Geometry awkward_geometry(bool polygon)
-{
-    Geometry g;
-    g.has_z = true;
-    const double payload_nan = std::bit_cast<double>(0x7ff8dead00000001ull);
-    Path p{{-0.0, 1e-300, payload_nan}, {std::nextafter(1.0, 2.0), -1e308, -0.0}, {3, 4, 5e-324}, {-0.0, 1e-300, 1}};
-    if (polygon) {
-        g.type = Geometry::Type::MultiPolygon;
-        g.polygons = {Polygon{{p, p}}, Polygon{{p}}};
-    } else {
-        g.type = Geometry::Type::MultiLineString;
-        g.lines = {p, Path{{1, 2, 3}, {4, 5, 6}}};
-    }
-    return g;
-}
-
-TEST(Records, GeometriesAndTileFeaturesRoundTripBitForBit)
-{
-    for (bool polygon : {true, false}) {
-        tiling::TileFeature f{42, Feature{-7, awkward_geometry(polygon)}, false};
-        std::string bytes;
-        tiling::ByteWriter w(bytes);
-        tiling::put_tile_feature(w, f);
-        tiling::ByteReader r(bytes, "test");
-        const tiling::TileFeature back = tiling::get_tile_feature(r);
-        EXPECT_TRUE(r.done());
-        EXPECT_EQ(back.rank, 42u);
-        EXPECT_EQ(back.feature.id, -7);
-        EXPECT_FALSE(back.intact);
-        expect_same_bits(f.feature.geometry, back.feature.geometry);
-        // Every truncation is refused, never read past the end.
-        for (std::size_t cut = 0; cut < bytes.size(); cut += 7) {
-            tiling::ByteReader partial(std::string_view(bytes).substr(0, cut), "test");
-            EXPECT_THROW(tiling::get_tile_feature(partial), tiling::record_error) << cut;
-        }
-    }
-}
-
-TEST(Records, CleanFeaturesRoundTripWithAndWithoutZ)
-{
-    std::vector<Problem> problems;
-    const Feature input{9, awkward_geometry(true)};
-    const detail::CleanFeature cf = detail::clean_feature(input, 3, 1e-3, problems);
-    for (bool has_z : {true, false}) {
-        std::string bytes;
-        tiling::ByteWriter w(bytes);
-        tiling::put_clean_feature(w, cf, has_z);
-        tiling::ByteReader r(bytes, "test");
-        bool back_z = !has_z;
-        const detail::CleanFeature back = tiling::get_clean_feature(r, back_z);
-        EXPECT_EQ(back_z, has_z);
-        EXPECT_EQ(back.index, 3u);
-        EXPECT_EQ(back.id, 9);
-        EXPECT_EQ(back.shells, cf.shells);
-        EXPECT_EQ(back.holes, cf.holes);
-        ASSERT_EQ(back.rings.size(), cf.rings.size());
-        for (std::size_t k = 0; k < cf.rings.size(); ++k) {
-            ASSERT_EQ(back.rings[k].points.size(), cf.rings[k].points.size());
-            EXPECT_EQ(back.rings[k].hole, cf.rings[k].hole);
-            for (std::size_t i = 0; i < cf.rings[k].points.size(); ++i) {
-                EXPECT_EQ(bits(back.rings[k].points[i].x), bits(cf.rings[k].points[i].x));
-                EXPECT_EQ(has_z ? bits(back.rings[k].points[i].z) : 0, has_z ? bits(cf.rings[k].points[i].z) : 0);
-            }
-        }
-    }
-}
 
 class StoreTest : public ::testing::TestWithParam<bool> {
 protected:

@@ -489,20 +489,39 @@ void TiledRun::snap(const TileProgress& progress, const std::function<bool(std::
     m_impl->run_groups(std::move(pending), progress, !mine);
 }
 
+// Progress in tiles: each round checks every live tile (two passes each), then snaps the merged
+// ones again; a round that merges adds them and the next round's checks to the total.
 void TiledRun::stitch(const TileProgress& progress)
 {
     Impl& m = *m_impl;
+    std::uint64_t base = 0; // tiles checked or snapped again in the rounds before
+    auto report = [&](std::uint64_t done, std::uint64_t total) {
+        if (progress) {
+            progress(done, total);
+        }
+    };
     for (;;) {
+        const std::uint64_t live = m.groups.live(m.layout).size();
+        report(base, base + live);
         const auto t0 = std::chrono::steady_clock::now();
-        const SeamVerdict verdict = check_seams(m.store, m.layout, m.groups, m.threads(), m.dropped_ranks());
+        const SeamVerdict verdict = check_seams(m.store, m.layout, m.groups, m.threads(), m.dropped_ranks(),
+                                                [&](std::uint64_t passes, std::uint64_t of) {
+                                                    report(base + passes / 2, base + of / 2);
+                                                });
         m.stats.seconds_stitch += seconds_since(t0);
+        base += live;
         if (verdict.pairs.empty()) {
             break;
         }
         m.notes.insert(m.notes.end(), verdict.problems.begin(), verdict.problems.end());
         const std::vector<std::size_t> added = merge_groups(m.store, m.groups, verdict.pairs);
         m.save_groups();
-        m.run_groups(added, progress);
+        const std::uint64_t rerun = added.size();
+        const std::uint64_t total = base + rerun + m.groups.live(m.layout).size();
+        m.run_groups(added, [&](std::uint64_t vertices, std::uint64_t of) {
+            report(base + (of == 0 ? 0 : vertices * rerun / of), total);
+        });
+        base += rerun;
     }
     m.save_groups();
 }
@@ -578,7 +597,7 @@ TiledResult snap_tiled(const std::vector<Feature>& features, const SnapOptions& 
     TiledRun run(*store, options, tiling, schedule);
     run.plan(meta);
     run.snap(progress);
-    run.stitch(progress);
+    run.stitch();
     const std::unique_ptr<OutputMerger> merger = run.output();
     out.result.features.resize(features.size());
     OutputItem item;

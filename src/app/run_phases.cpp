@@ -222,9 +222,11 @@ void RunPhases::snap(const std::function<bool(std::size_t)>& mine)
 
 void RunPhases::stitch()
 {
-    auto on_tiles = [&](std::uint64_t done, std::uint64_t) { m_progress.update(static_cast<std::int64_t>(done)); };
+    auto on_tiles = [&](std::uint64_t done, std::uint64_t total) {
+        m_progress.update(static_cast<std::int64_t>(done), static_cast<std::int64_t>(total));
+    };
     phase("stitch", [&] {
-        m_progress.start("stitch", -1, "vertices");
+        m_progress.start("stitch", static_cast<std::int64_t>(m_run->groups().live(m_run->layout()).size()), "tiles");
         guarded([&] { m_run->stitch(on_tiles); });
         m_progress.finish();
     });

@@ -250,6 +250,42 @@ TEST(TiledRun, SmallPoolSplitsTilesAndAResumedRunEqualsUntiled)
     fs::remove_all(dir);
 }
 
+// The stitch phase counts tiles: it starts at 0 of the live tiles, never goes back, and ends with
+// every tile checked (done == total, the total the phase started with when no seam disagreed).
+TEST(TiledRun, StitchReportsTilesCheckedOfARealTotal)
+{
+    const double t = 0.01;
+    const auto input = perturbed_grid_coverage(16, 16, 1.0, 0.2, 9, 1, 0.004);
+    auto store = tiling::make_memory_store();
+    stitch::FeatureSpool spool(*store, t, 100000, 1 << 10);
+    std::vector<Problem> problems;
+    for (std::size_t i = 0; i < input.size(); ++i) {
+        spool.add(i, input[i].id, input[i].geometry, problems);
+    }
+    const stitch::SpoolMeta meta = spool.finish();
+    stitch::TilingOptions tiling;
+    tiling.plan.tile_size = 4.0;
+    tiling.threads = 2;
+    stitch::ScheduleOptions schedule;
+    schedule.threads = 2;
+    stitch::TiledRun run(*store, options_at(t), tiling, schedule);
+    run.plan(meta);
+    run.snap();
+    const std::uint64_t live = run.groups().live(run.layout()).size();
+    ASSERT_GT(live, 4u);
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> calls;
+    run.stitch([&](std::uint64_t done, std::uint64_t total) { calls.emplace_back(done, total); });
+    ASSERT_EQ(run.stats().seam_merges, 0u) << "the layer was meant to stitch in one round";
+    ASSERT_GE(calls.size(), live) << "fewer reports than tiles";
+    EXPECT_EQ(calls.front(), std::make_pair(std::uint64_t{0}, live));
+    for (std::size_t i = 1; i < calls.size(); ++i) {
+        EXPECT_GE(calls[i].first, calls[i - 1].first) << "call " << i << " went back";
+        EXPECT_LE(calls[i].first, calls[i].second) << "call " << i;
+        EXPECT_EQ(calls[i].second, live) << "call " << i;
+    }
+    EXPECT_EQ(calls.back(), std::make_pair(live, live));
+}
+
 // One tile (as with --no-tiles): the bar moves while the engine works, and Ctrl-C stops it inside
 // the tile instead of after it. Nothing of the stopped tile is committed.
 TEST(TiledRun, OneBigTileReportsProgressInsideAndStopsInside)

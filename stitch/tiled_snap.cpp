@@ -271,8 +271,9 @@ std::vector<std::pair<std::size_t, std::string>> TiledRun::Impl::run_once(std::v
 }
 
 // Runs one tile; returns "" or, with OnError::skip, what the engine threw. A cancel (thrown by
-// check_cancel from the engine's progress), running out of memory and a budget error always
-// leave the run.
+// check_cancel from the engine's progress), running out of memory, a budget error and a work
+// file that cannot be read or written (a full disk) always leave the run: they are not the
+// tile's fault, and retrying it would write more.
 std::string TiledRun::Impl::run_one(const TileRunner& runner, std::size_t group, const std::function<void(std::size_t, std::size_t)>& on_progress)
 {
     bool cancelled = false;
@@ -292,6 +293,8 @@ std::string TiledRun::Impl::run_one(const TileRunner& runner, std::size_t group,
     } catch (const std::bad_alloc&) {
         throw;
     } catch (const budget_error&) {
+        throw;
+    } catch (const tiling::work_error&) {
         throw;
     } catch (const std::exception& e) {
         if (cancelled) {

@@ -1,5 +1,6 @@
 #include "app/run_phases.hpp"
 
+#include "app/disk_space.hpp"
 #include "app/memory.hpp"
 #include "config/errors.hpp"
 #include "io/io_error.hpp"
@@ -23,22 +24,6 @@ constexpr std::uint64_t k_mib = 1024 * 1024;
 double since(Clock::time_point start)
 {
     return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-// The spool needs about features.bin again for the buckets and as much for the results.
-void check_disk(const WorkDir& work, const tiling::WorkStore& store, const stitch::SpoolMeta& meta)
-{
-    if (!work.on_disk()) {
-        return;
-    }
-    const std::uint64_t features = store.total_bytes();
-    const std::uint64_t need = 2 * features + 64 * k_mib;
-    const std::uint64_t free = store.free_space();
-    if (free < need) {
-        throw io_error(work.path(), "", fmt::format("not enough free disk for the work files: about {} more are needed "
-                                                    "for {} features, {} are free; give --work-dir on a larger disk",
-                                                    format_size(need), meta.spooled, format_size(free)));
-    }
 }
 
 } // namespace
@@ -129,6 +114,7 @@ void RunPhases::read(Plan& plan)
             spdlog::info("read: taken from the work directory (resumed)");
             return;
         }
+        check_disk_before_read(m_work, plan);
         const std::uint64_t limit = m_budget.memory_limit;
         const std::size_t sample_cap = limit ? static_cast<std::size_t>(limit / 16 / 16) : std::size_t{16} << 20;
         const std::size_t fid_buffer = limit ? static_cast<std::size_t>(limit / 16 / 8) : std::numeric_limits<std::size_t>::max();
@@ -136,7 +122,7 @@ void RunPhases::read(Plan& plan)
     });
     m_result.seconds_read = m_result.phases.back().seconds;
     take_read(summary);
-    check_disk(m_work, m_work.store(), m_meta);
+    check_disk_after_read(m_work, m_meta);
 }
 
 bool RunPhases::load_read()

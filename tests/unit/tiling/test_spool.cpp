@@ -14,11 +14,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <filesystem>
-#include <limits>
+#include <functional>
 #include <random>
+
+#include <unistd.h>
 
 namespace trisnap {
 namespace {
@@ -109,6 +110,46 @@ TEST_P(StoreTest, RecordsStreamAndSeekAndRefuseTruncation)
 
 INSTANTIATE_TEST_SUITE_P(Stores, StoreTest, ::testing::Values(false, true),
                          [](const auto& info) { return info.param ? std::string("Directory") : std::string("Memory"); });
+
+// A full disk, made with /dev/full (every write fails with ENOSPC) under the names the store
+// writes through: a committed file's temporary name, and an appended file's own name.
+TEST(DirectoryStore, FullDiskIsADiskFullErrorNamingTheDirectory)
+{
+    if (!fs::exists("/dev/full")) {
+        GTEST_SKIP() << "no /dev/full";
+    }
+    const fs::path dir = fs::temp_directory_path() / ("trisnap-full-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    auto store = tiling::make_directory_store(dir.string());
+    char host[256] = {};
+    ::gethostname(host, sizeof host - 1);
+    fs::create_symlink("/dev/full", dir / ("features.bin.tmp-" + std::string(host) + "-" + std::to_string(::getpid())));
+    fs::create_symlink("/dev/full", dir / "bucket-0");
+    auto expect_full = [&](const std::function<void()>& write) {
+        try {
+            write();
+            ADD_FAILURE() << "no error";
+        } catch (const tiling::disk_full_error& e) {
+            EXPECT_EQ(e.directory(), dir.string());
+            EXPECT_NE(std::string(e.what()).find("No space left on device"), std::string::npos) << e.what();
+        }
+    };
+    expect_full([&] {
+        auto f = store->create("features.bin");
+        f->write(std::string(3 << 20, 'x')); // more than the buffer: written at once
+        f->commit();
+    });
+    expect_full([&] { store->append("bucket-0", "bytes"); });
+    // Another failure stays a plain work_error.
+    try {
+        store->open("missing");
+        ADD_FAILURE() << "no error";
+    } catch (const tiling::disk_full_error&) {
+        ADD_FAILURE() << "a missing file is not a full disk";
+    } catch (const tiling::work_error&) {
+    }
+    fs::remove_all(dir);
+}
 
 TEST(VertexSample, DoesNotDependOnInputOrderAndKeepsEverythingUnderItsCap)
 {

@@ -116,9 +116,7 @@ void RunPhases::read(Plan& plan)
         }
         check_disk_before_read(m_work, plan);
         const std::uint64_t limit = m_budget.memory_limit;
-        const std::size_t sample_cap = limit ? static_cast<std::size_t>(limit / 16 / 16) : std::size_t{16} << 20;
-        const std::size_t fid_buffer = limit ? static_cast<std::size_t>(limit / 16 / 8) : std::numeric_limits<std::size_t>::max();
-        summary = read_layer(plan, m_work.store(), sample_cap, fid_buffer, m_progress, m_interrupt);
+        summary = read_layer(plan, m_work.store(), sample_vertices(limit), fid_buffer(limit), m_progress, m_interrupt);
     });
     m_result.seconds_read = m_result.phases.back().seconds;
     take_read(summary);
@@ -147,24 +145,33 @@ std::uint64_t RunPhases::memory_pool() const
     if (m_budget.memory_limit == 0) {
         return 0;
     }
-    const std::uint64_t held = current_rss() + reserved_margin(m_budget);
+    const std::uint64_t rss = current_rss();
+    const std::uint64_t held = rss + reserved_margin(m_budget);
     const std::uint64_t least = m_model.tile_bytes(1000);
     if (m_budget.memory_limit < held + least) {
         throw argument_error(fmt::format("--memory-limit {} is too small: the process holds {} before any tile, and the "
                                          "smallest tile needs {}; the smallest limit that would work is about {}",
                                          format_size(m_budget.memory_limit), format_size(held), format_size(least),
-                                         format_size(held + m_model.tile_bytes(20000))));
+                                         smallest_limit_text(rss, m_model.tile_bytes(20000))));
     }
     return m_budget.memory_limit - held;
+}
+
+// The limit under which a fresh run of this layer would hold `rss` (as now, the buffers that grow
+// with the limit grown) beside the margin and `tile`: a whole number of MiB, never less than it.
+std::string RunPhases::smallest_limit_text(std::uint64_t rss, std::uint64_t tile) const
+{
+    const HeldByLimit grows{m_meta.vertices, m_result.input, m_budget.input_bytes};
+    const std::uint64_t limit = smallest_limit(m_budget.memory_limit, rss, grows, tile);
+    return fmt::format("{} MiB", limit / k_mib);
 }
 
 // The smallest limit under which the tile that did not fit would run alone.
 void RunPhases::too_small(const stitch::budget_error& e) const
 {
-    const std::uint64_t held = current_rss() + reserved_margin(m_budget);
-    const std::uint64_t need = held + m_model.tile_bytes(e.vertices());
     throw argument_error(fmt::format("--memory-limit {} is too small: {}; the smallest limit that would work is about {}",
-                                     format_size(m_budget.memory_limit), e.what(), format_size(need + need / 8)));
+                                     format_size(m_budget.memory_limit), e.what(),
+                                     smallest_limit_text(current_rss(), m_model.tile_bytes(e.vertices()))));
 }
 
 void RunPhases::open_tiles()
@@ -183,6 +190,9 @@ void RunPhases::spool()
     phase("spool", [&] {
         m_progress.start("spool", static_cast<std::int64_t>(2 * m_meta.spooled), "feature reads");
         guarded([&] { m_run->plan(m_meta, on_pass); });
+        // The sample's vertices served only the plan (up to limit/16 bytes).
+        m_meta.sample.xs = {};
+        m_meta.sample.ys = {};
         m_progress.finish();
     });
 }

@@ -64,6 +64,7 @@ private:
     void guarded(F&& body) const;
     std::uint64_t memory_pool() const;
     [[noreturn]] void too_small(const stitch::budget_error& e) const;
+    std::string smallest_limit_text(std::uint64_t rss, std::uint64_t tile) const;
     void take_read(ReadSummary& summary);
 
     WorkDir& m_work;

@@ -2,7 +2,8 @@
 // under --memory-limit 256MiB keeps the process's peak under the limit and writes the bytes of
 // the in-memory run; a run killed (SIGKILL) in three different phases and continued with
 // --resume writes the same bytes; a limit too small for one feature is a clear error that
-// leaves nothing at OUT; work directories of other runs are refused.
+// leaves nothing at OUT, and the smallest limit it suggests runs through; work directories of
+// other runs are refused.
 #include "cli_support.hpp"
 
 #include <gtest/gtest.h>
@@ -139,6 +140,15 @@ TEST_F(OutOfCore, LimitTooSmallForOneFeatureIsAClearErrorAndLeavesNothing)
     EXPECT_NE(r.err.find("kept: add --resume to continue it"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(out));
     EXPECT_TRUE(fs::exists(m_dir.path(".dense_out.gpkg.trisnap-work"))) << "the read phase's work is kept for --resume";
+    // The limit it suggests is enough for a fresh run: it plans and spools (where a limit is
+    // refused) and starts snapping, where it is stopped (snapping this ring takes minutes).
+    const std::string marker = "the smallest limit that would work is about ";
+    const long long mib = std::stoll(r.err.substr(r.err.find(marker) + marker.size()));
+    const RunOutput fresh = run_trisnap_killed_when(
+        m_dir, {"snap", in, m_dir.path("dense_fresh.gpkg"), "--tolerance", "1", "--memory-limit", std::to_string(mib) + "MiB",
+                "--json-progress"},
+        [](const std::string& line) { return line.find("\"phase\":\"snap\"") != std::string::npos; });
+    EXPECT_EQ(fresh.code, 137) << "a fresh run at the suggested " << mib << " MiB did not reach the snap phase: " << fresh.err;
 }
 
 TEST_F(OutOfCore, WorkDirectoriesOfOtherRunsAreRefused)
@@ -161,6 +171,36 @@ TEST_F(OutOfCore, WorkDirectoriesOfOtherRunsAreRefused)
     r = run_trisnap(m_dir, {"snap", in, out, "--tolerance", "0.1", "--work-dir", work2, "--resume"});
     expect_error(r, 2, "differs in input");
     EXPECT_FALSE(fs::exists(out));
+}
+
+// "The smallest limit that would work" is the limit a fresh run needs, not the one that would
+// have been enough with the margin of the limit tried (the margin grows with the limit): the
+// same command with the suggested limit runs through, and one with three quarters of it is
+// refused again.
+TEST(OutOfCoreLimits, TheSuggestedLimitIsEnoughForAFreshRun)
+{
+    const std::string andorra = data_dir() + "/snapoly_andorra/andorra.gpkg";
+    if (!exists(andorra)) {
+        GTEST_SKIP() << "data set absent: " << andorra;
+    }
+    TempDir dir;
+    auto run_at = [&](const std::string& limit, const std::string& name) {
+        return run_trisnap(dir, {"snap", andorra, dir.path(name), "--tolerance", "1e-6", "--memory-limit", limit,
+                                 "--threads", "2", "-q"});
+    };
+    const RunOutput small = run_at("32MiB", "small.gpkg");
+    expect_error(small, 2, "--memory-limit 32 MiB is too small");
+    const std::string marker = "the smallest limit that would work is about ";
+    const std::size_t at = small.err.find(marker);
+    ASSERT_NE(at, std::string::npos) << small.err;
+    const long long mib = std::stoll(small.err.substr(at + marker.size()));
+    EXPECT_NE(small.err.find(std::to_string(mib) + " MiB", at), std::string::npos) << small.err;
+    ASSERT_GT(mib, 32);
+    const RunOutput suggested = run_at(std::to_string(mib) + "MiB", "suggested.gpkg");
+    EXPECT_EQ(suggested.code, 0) << "a fresh run at the suggested " << mib << " MiB failed: " << suggested.err;
+    EXPECT_TRUE(exists(dir.path("suggested.gpkg")));
+    const RunOutput less = run_at(std::to_string(mib * 3 / 4) + "MiB", "less.gpkg");
+    EXPECT_EQ(less.code, 2) << "three quarters of the suggestion ran too: it is not the smallest";
 }
 
 TEST(OutOfCoreOptions, MemoryLimitIsReadFromTheConfigAndChecked)

@@ -3,7 +3,7 @@
 // the in-memory run; a run killed (SIGKILL) in three different phases and continued with
 // --resume writes the same bytes; a limit too small for one feature is a clear error that
 // leaves nothing at OUT, and the smallest limit it suggests runs through; work directories of
-// other runs are refused.
+// other runs are refused; 100 k problems under a limit give the in-memory report.
 #include "cli_support.hpp"
 
 #include <gtest/gtest.h>
@@ -201,6 +201,50 @@ TEST(OutOfCoreLimits, TheSuggestedLimitIsEnoughForAFreshRun)
     EXPECT_TRUE(exists(dir.path("suggested.gpkg")));
     const RunOutput less = run_at(std::to_string(mib * 3 / 4) + "MiB", "less.gpkg");
     EXPECT_EQ(less.code, 2) << "three quarters of the suggestion ran too: it is not the smallest";
+}
+
+// A layer whose every feature has a problem (a repeated vertex: 102), 100 k of them: under a
+// limit they go to sorted runs in the work directory and come back one at a time, so the report's
+// problem list and the problems layer are those of the in-memory run, byte for byte.
+TEST(OutOfCoreProblems, ManyProblemsUnderALimitGiveTheInMemoryReportAndLayer)
+{
+    TempDir dir;
+    std::vector<FixtureFeature> features;
+    const int n = 100000;
+    for (int k = 0; k < n; ++k) {
+        const int x = (k % 320) * 3;
+        const int y = (k / 320) * 3;
+        char wkt[160];
+        std::snprintf(wkt, sizeof wkt, "POLYGON((%d %d,%d %d,%d %d,%d %d,%d %d,%d %d))", x, y, x + 1, y, x + 1, y, x + 1,
+                      y + 1, x, y + 1, x, y);
+        features.push_back({wkt, {{"id", std::to_string(k)}}});
+    }
+    const std::string in = dir.path("repeated.gpkg");
+    write_fixture(in, "GPKG", "squares", 3857, wkbPolygon, features);
+    auto run = [&](const std::string& name, std::vector<std::string> extra) {
+        std::vector<std::string> args{"snap", in, dir.path(name + ".gpkg"), "--tolerance", "0.01", "--report",
+                                      dir.path(name + ".json"), "--problems-layer", dir.path(name + ".geojson")};
+        args.insert(args.end(), extra.begin(), extra.end());
+        return run_trisnap(dir, args);
+    };
+    const RunOutput memory = run("memory", {"-q"});
+    ASSERT_EQ(memory.code, 0) << memory.err;
+    const RunOutput limited = run("limited", {"--memory-limit", "256MiB", "-v"}); // 8 MiB of problems at once
+    ASSERT_EQ(limited.code, 0) << limited.err;
+    const std::string marker = "problems: " + std::to_string(n) + ", in ";
+    const std::size_t at = limited.err.find(marker);
+    ASSERT_NE(at, std::string::npos) << limited.err;
+    EXPECT_GE(std::stoi(limited.err.substr(at + marker.size())), 2) << "the problems did not go to the work directory";
+    const nlohmann::json a = read_json(dir.path("memory.json"));
+    const nlohmann::json b = read_json(dir.path("limited.json"));
+    EXPECT_EQ(b["memory"]["mode"], "out_of_core");
+    ASSERT_EQ(a["problems"].size(), static_cast<std::size_t>(n));
+    EXPECT_EQ(a["problems_by_code"], b["problems_by_code"]);
+    EXPECT_EQ(a["counts"], b["counts"]);
+    // The problem list as text, from "problems_by_code" to the end: the same bytes.
+    auto tail = [](const std::string& text) { return text.substr(text.rfind("\"problems_by_code\"")); };
+    EXPECT_TRUE(tail(file_bytes(dir.path("memory.json"))) == tail(file_bytes(dir.path("limited.json"))));
+    EXPECT_TRUE(file_bytes(dir.path("memory.geojson")) == file_bytes(dir.path("limited.geojson")));
 }
 
 TEST(OutOfCoreOptions, MemoryLimitIsReadFromTheConfigAndChecked)

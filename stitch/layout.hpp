@@ -36,6 +36,13 @@ struct TilingOptions {
     OnError on_error = OnError::stop;
 };
 
+/// The encoding of the work files (tiling/records.hpp, stitch/tile_result.hpp), in the run's
+/// manifest: raised whenever a record changes, so that a directory another encoding wrote is
+/// refused by --resume instead of misread. 2: the tile report keeps every engine counter;
+/// records.bin flags the features the read reported a problem for; read.bin lists the problem
+/// log's runs instead of holding the problems.
+inline constexpr int k_work_format = 2;
+
 /// Work file names.
 namespace files {
 inline const std::string features = "features.bin";  ///< cleaned features, input order

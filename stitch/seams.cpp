@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <map>
+#include <mutex>
 #include <set>
 
 namespace trisnap::stitch {
@@ -143,10 +144,35 @@ void SeamChecker::check(std::size_t g, const std::vector<std::size_t>& sources,
 
 } // namespace
 
+namespace {
+
+// Counts passes done from worker threads and reports them one call at a time.
+class PassCount {
+public:
+    PassCount(const SeamProgress& progress, std::uint64_t total) : m_progress(progress), m_total(total) {}
+    void one()
+    {
+        if (!m_progress) {
+            return;
+        }
+        const std::lock_guard lock(m_mutex);
+        m_progress(++m_done, m_total);
+    }
+
+private:
+    const SeamProgress& m_progress;
+    std::uint64_t m_total;
+    std::uint64_t m_done = 0;
+    std::mutex m_mutex;
+};
+
+} // namespace
+
 SeamVerdict check_seams(const tiling::WorkStore& store, const TileLayout& layout, const Groups& groups, int threads,
-                        const std::vector<std::uint64_t>& dropped)
+                        const std::vector<std::uint64_t>& dropped, const SeamProgress& progress)
 {
     const std::vector<std::size_t> live = groups.live(layout);
+    PassCount passes(progress, 2 * live.size());
     std::vector<std::set<std::pair<std::size_t, std::size_t>>> pairs(live.size());
     std::vector<std::vector<std::pair<std::uint64_t, Problem>>> problems(live.size());
     const SeamChecker checker(store, layout, groups, dropped);
@@ -155,7 +181,10 @@ SeamVerdict check_seams(const tiling::WorkStore& store, const TileLayout& layout
     std::vector<std::vector<std::size_t>> near(live.size());
     const int n = threads > 0 ? threads : tbb::info::default_concurrency();
     tbb::task_arena(n).execute([&] {
-        tbb::parallel_for(std::size_t{0}, live.size(), [&](std::size_t i) { near[i] = checker.near_groups(live[i]); });
+        tbb::parallel_for(std::size_t{0}, live.size(), [&](std::size_t i) {
+            near[i] = checker.near_groups(live[i]);
+            passes.one();
+        });
     });
     std::map<std::size_t, std::vector<std::size_t>> sources; // group -> groups with edges near it
     for (std::size_t i = 0; i < live.size(); ++i) {
@@ -169,6 +198,7 @@ SeamVerdict check_seams(const tiling::WorkStore& store, const TileLayout& layout
             if (it != sources.end()) {
                 checker.check(live[i], it->second, pairs[i], problems[i]);
             }
+            passes.one();
         });
     });
     SeamVerdict out;

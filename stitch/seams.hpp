@@ -11,6 +11,7 @@
 #include "tiling/work_store.hpp"
 
 #include <cstdint>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -23,10 +24,15 @@ struct SeamVerdict {
     std::vector<std::pair<std::uint64_t, Problem>> problems;
 };
 
+/// Called with (passes done, of all): each tile is read in two passes (which tiles its seam
+/// edges come near, then its own check), so `of` is twice the tiles; from worker threads, one
+/// call at a time, never going back.
+using SeamProgress = std::function<void(std::uint64_t, std::uint64_t)>;
+
 /// `dropped`: ranks of the features failed tiles dropped (--on-error skip), ascending; their edges
 /// are in no output, so they are left out of the comparison.
 SeamVerdict check_seams(const tiling::WorkStore& store, const TileLayout& layout, const Groups& groups, int threads,
-                        const std::vector<std::uint64_t>& dropped = {});
+                        const std::vector<std::uint64_t>& dropped = {}, const SeamProgress& progress = {});
 
 /// Merges the groups of every pair (transitively) into new groups, which start from the widest
 /// halo of their parts; their old files are removed. Returns the new groups, ascending.

@@ -17,7 +17,7 @@ auto seam_key(const SeamEdge& e)
 void put_stats(tiling::ByteWriter& w, const SnapStats& s)
 {
     for (std::size_t v : {s.input_features, s.input_vertices, s.triangulation_vertices, s.output_vertices, s.intersections,
-                          s.merges, s.splits, s.rounds, s.collapsed_features}) {
+                          s.merges, s.splits, s.rounds, s.faces_visited, s.fixpoint_misses, s.collapsed_features}) {
         w.put<std::uint64_t>(v);
     }
     for (double v : {s.max_displacement, s.seconds_triangulate, s.seconds_snap, s.seconds_label, s.seconds_extract}) {
@@ -29,7 +29,8 @@ SnapStats get_stats(tiling::ByteReader& r)
 {
     SnapStats s;
     for (std::size_t* v : {&s.input_features, &s.input_vertices, &s.triangulation_vertices, &s.output_vertices,
-                           &s.intersections, &s.merges, &s.splits, &s.rounds, &s.collapsed_features}) {
+                           &s.intersections, &s.merges, &s.splits, &s.rounds, &s.faces_visited, &s.fixpoint_misses,
+                           &s.collapsed_features}) {
         *v = r.get<std::uint64_t>();
     }
     for (double* v : {&s.max_displacement, &s.seconds_triangulate, &s.seconds_snap, &s.seconds_label, &s.seconds_extract}) {

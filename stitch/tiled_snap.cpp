@@ -271,8 +271,9 @@ std::vector<std::pair<std::size_t, std::string>> TiledRun::Impl::run_once(std::v
 }
 
 // Runs one tile; returns "" or, with OnError::skip, what the engine threw. A cancel (thrown by
-// check_cancel from the engine's progress), running out of memory and a budget error always
-// leave the run.
+// check_cancel from the engine's progress), running out of memory, a budget error and a work
+// file that cannot be read or written (a full disk) always leave the run: they are not the
+// tile's fault, and retrying it would write more.
 std::string TiledRun::Impl::run_one(const TileRunner& runner, std::size_t group, const std::function<void(std::size_t, std::size_t)>& on_progress)
 {
     bool cancelled = false;
@@ -292,6 +293,8 @@ std::string TiledRun::Impl::run_one(const TileRunner& runner, std::size_t group,
     } catch (const std::bad_alloc&) {
         throw;
     } catch (const budget_error&) {
+        throw;
+    } catch (const tiling::work_error&) {
         throw;
     } catch (const std::exception& e) {
         if (cancelled) {
@@ -460,6 +463,8 @@ void TiledRun::plan(const SpoolMeta& meta, const PassProgress& progress)
         bo.buffer_bytes = static_cast<std::size_t>(std::clamp<std::uint64_t>(m.schedule.memory_pool / 8, 1u << 20, 64u << 20));
     }
     m.layout = make_buckets(m.store, meta, tiling, bo, progress);
+    m.meta.sample.xs = {}; // only the plan needed them; the extent stays
+    m.meta.sample.ys = {};
     m.groups = Groups::of_layout(m.layout);
     m.save_groups();
 }
@@ -489,20 +494,39 @@ void TiledRun::snap(const TileProgress& progress, const std::function<bool(std::
     m_impl->run_groups(std::move(pending), progress, !mine);
 }
 
+// Progress in tiles: each round checks every live tile (two passes each), then snaps the merged
+// ones again; a round that merges adds them and the next round's checks to the total.
 void TiledRun::stitch(const TileProgress& progress)
 {
     Impl& m = *m_impl;
+    std::uint64_t base = 0; // tiles checked or snapped again in the rounds before
+    auto report = [&](std::uint64_t done, std::uint64_t total) {
+        if (progress) {
+            progress(done, total);
+        }
+    };
     for (;;) {
+        const std::uint64_t live = m.groups.live(m.layout).size();
+        report(base, base + live);
         const auto t0 = std::chrono::steady_clock::now();
-        const SeamVerdict verdict = check_seams(m.store, m.layout, m.groups, m.threads(), m.dropped_ranks());
+        const SeamVerdict verdict = check_seams(m.store, m.layout, m.groups, m.threads(), m.dropped_ranks(),
+                                                [&](std::uint64_t passes, std::uint64_t of) {
+                                                    report(base + passes / 2, base + of / 2);
+                                                });
         m.stats.seconds_stitch += seconds_since(t0);
+        base += live;
         if (verdict.pairs.empty()) {
             break;
         }
         m.notes.insert(m.notes.end(), verdict.problems.begin(), verdict.problems.end());
         const std::vector<std::size_t> added = merge_groups(m.store, m.groups, verdict.pairs);
         m.save_groups();
-        m.run_groups(added, progress);
+        const std::uint64_t rerun = added.size();
+        const std::uint64_t total = base + rerun + m.groups.live(m.layout).size();
+        m.run_groups(added, [&](std::uint64_t vertices, std::uint64_t of) {
+            report(base + (of == 0 ? 0 : vertices * rerun / of), total);
+        });
+        base += rerun;
     }
     m.save_groups();
 }
@@ -578,7 +602,7 @@ TiledResult snap_tiled(const std::vector<Feature>& features, const SnapOptions& 
     TiledRun run(*store, options, tiling, schedule);
     run.plan(meta);
     run.snap(progress);
-    run.stitch(progress);
+    run.stitch();
     const std::unique_ptr<OutputMerger> merger = run.output();
     out.result.features.resize(features.size());
     OutputItem item;

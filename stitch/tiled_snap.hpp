@@ -96,7 +96,9 @@ public:
     void snap(const TileProgress& progress = {}, const std::function<bool(std::size_t)>& mine = {});
     /// Groups (tiles) that have no result yet.
     std::vector<std::size_t> missing() const;
-    /// Seam check, merging and snapping again until every seam agrees.
+    /// Seam check, merging and snapping again until every seam agrees. `progress` counts tiles:
+    /// (tiles checked or snapped again, of the tiles to check and snap again so far); a round
+    /// that merges tiles adds them, and the next round's checks, to the total.
     void stitch(const TileProgress& progress = {});
     /// The stitched features in input order (after stitch()).
     std::unique_ptr<OutputMerger> output();

@@ -20,7 +20,18 @@ namespace {
     throw work_error(path + ": " + what + ": " + std::strerror(errno));
 }
 
-void write_all(int fd, const char* data, std::size_t n, const std::string& path)
+// A write, flush or close that failed: a full disk (or quota, or file size limit) is told apart,
+// so that the app can say which directory needs room.
+[[noreturn]] void fail_write(const std::string& path, const char* what, const std::string& dir)
+{
+    const int error = errno;
+    if (error == ENOSPC || error == EDQUOT || error == EFBIG) {
+        throw disk_full_error(path + ": " + what + ": " + std::strerror(error), dir);
+    }
+    fail(path, what);
+}
+
+void write_all(int fd, const char* data, std::size_t n, const std::string& path, const std::string& dir)
 {
     while (n > 0) {
         const ssize_t k = ::write(fd, data, n);
@@ -28,7 +39,10 @@ void write_all(int fd, const char* data, std::size_t n, const std::string& path)
             continue;
         }
         if (k <= 0) {
-            fail(path, "cannot write");
+            if (k == 0) {
+                errno = ENOSPC; // a write that makes no progress: the file system took nothing
+            }
+            fail_write(path, "cannot write", dir);
         }
         data += k;
         n -= static_cast<std::size_t>(k);
@@ -49,11 +63,11 @@ std::string temp_suffix()
 
 class DirOutFile : public OutFile {
 public:
-    DirOutFile(std::string path) : m_path(std::move(path)), m_temp(m_path + temp_suffix())
+    DirOutFile(std::string path, std::string dir) : m_path(std::move(path)), m_temp(m_path + temp_suffix()), m_dir(std::move(dir))
     {
         m_fd = ::open(m_temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
         if (m_fd < 0) {
-            fail(m_temp, "cannot create");
+            fail_write(m_temp, "cannot create", m_dir);
         }
         m_buffer.reserve(k_buffer);
     }
@@ -73,7 +87,7 @@ public:
             flush();
         }
         if (bytes.size() >= k_buffer) {
-            write_all(m_fd, bytes.data(), bytes.size(), m_temp);
+            write_all(m_fd, bytes.data(), bytes.size(), m_temp, m_dir);
             return;
         }
         m_buffer.append(bytes);
@@ -82,12 +96,12 @@ public:
     {
         flush();
         if (::fsync(m_fd) != 0) {
-            fail(m_temp, "cannot flush to disk");
+            fail_write(m_temp, "cannot flush to disk", m_dir);
         }
         const int fd = m_fd;
         m_fd = -1;
         if (::close(fd) != 0) {
-            fail(m_temp, "cannot close");
+            fail_write(m_temp, "cannot close", m_dir);
         }
         if (::rename(m_temp.c_str(), m_path.c_str()) != 0) {
             fail(m_path, "cannot rename into place");
@@ -100,12 +114,13 @@ private:
     static constexpr std::size_t k_buffer = 1 << 20;
     void flush()
     {
-        write_all(m_fd, m_buffer.data(), m_buffer.size(), m_temp);
+        write_all(m_fd, m_buffer.data(), m_buffer.size(), m_temp, m_dir);
         m_buffer.clear();
     }
 
     std::string m_path;
     std::string m_temp;
+    std::string m_dir;
     std::string m_buffer;
     int m_fd = -1;
     bool m_committed = false;
@@ -173,7 +188,10 @@ public:
             throw work_error(dir + ": cannot create the work directory: " + ec.message());
         }
     }
-    std::unique_ptr<OutFile> create(const std::string& name) override { return std::make_unique<DirOutFile>(path(name)); }
+    std::unique_ptr<OutFile> create(const std::string& name) override
+    {
+        return std::make_unique<DirOutFile>(path(name), m_dir);
+    }
     std::unique_ptr<InFile> open(const std::string& name) const override { return std::make_unique<DirInFile>(path(name)); }
     bool exists(const std::string& name) const override { return fs::exists(path(name)); }
     void remove(const std::string& name) override
@@ -195,16 +213,16 @@ public:
         const std::string p = path(name);
         const int fd = ::open(p.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
         if (fd < 0) {
-            fail(p, "cannot open for appending");
+            fail_write(p, "cannot open for appending", m_dir);
         }
         try {
-            write_all(fd, bytes.data(), bytes.size(), p);
+            write_all(fd, bytes.data(), bytes.size(), p, m_dir);
         } catch (...) {
             ::close(fd);
             throw;
         }
         if (::close(fd) != 0) {
-            fail(p, "cannot close");
+            fail_write(p, "cannot close", m_dir);
         }
     }
     std::uint64_t size(const std::string& name) const override

@@ -7,7 +7,7 @@
 // when commit() succeeded (written to NAME.tmp-HOST-PID, flushed, fsync'ed, renamed), so a process
 // killed at any moment leaves either the whole file or none under that name; every write, flush
 // and close is checked and a failure throws work_error naming the file and the system's reason
-// (a full disk too). append() is for buckets, which a phase seals as a whole (its checkpoint).
+// (a full disk: disk_full_error). append() is for buckets, which a phase seals as a whole (its checkpoint).
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
@@ -21,6 +21,18 @@ namespace trisnap::tiling {
 class work_error : public std::runtime_error {
 public:
     using std::runtime_error::runtime_error;
+};
+
+/// A work file that cannot be written because the disk is full (ENOSPC), a quota is reached
+/// (EDQUOT) or a file grew past the largest size allowed (EFBIG, RLIMIT_FSIZE): what() names
+/// the file and the system's reason, directory() the work directory.
+class disk_full_error : public work_error {
+public:
+    disk_full_error(const std::string& what, std::string directory) : work_error(what), m_directory(std::move(directory)) {}
+    const std::string& directory() const { return m_directory; }
+
+private:
+    std::string m_directory;
 };
 
 /// A file being written; nothing is visible under its name until commit().

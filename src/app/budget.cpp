@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <limits>
 
 namespace trisnap {
 namespace {
@@ -27,7 +28,9 @@ RunBudget choose_budget(const SnapArgs& args, const Config& config)
 {
     RunBudget b;
     // Before the input is opened: its vertices are bounded from its size (see estimate.hpp).
-    b.estimate = estimate_run(estimate_input(args.input, -1, -1), estimate_settings(config)).peak_bytes;
+    const EstimateInput input = estimate_input(args.input, -1, -1);
+    b.estimate = estimate_run(input, estimate_settings(config)).peak_bytes;
+    b.input_bytes = input.input_bytes;
     b.resume = args.resume;
     if (config.run.memory_limit > 0) {
         b.on_disk = true;
@@ -51,18 +54,61 @@ RunBudget choose_budget(const SnapArgs& args, const Config& config)
 
 std::uint64_t reserved_margin(const RunBudget& budget)
 {
-    if (budget.memory_limit == 0) {
+    return reserved_margin(budget.memory_limit);
+}
+
+std::uint64_t reserved_margin(std::uint64_t memory_limit)
+{
+    if (memory_limit == 0) {
         return 0;
     }
     // GDAL's SQLite page cache and block cache (each at most 1/16 of the limit, see below), the
     // bucket and merge buffers (at most 1/8), and slack for the allocator.
-    return budget.memory_limit / 4 + 16 * k_mib;
+    return memory_limit / 4 + 16 * k_mib;
+}
+
+std::size_t sample_vertices(std::uint64_t memory_limit)
+{
+    return memory_limit ? static_cast<std::size_t>(memory_limit / 16 / 16) : std::size_t{16} << 20;
+}
+
+std::size_t fid_buffer(std::uint64_t memory_limit)
+{
+    return memory_limit ? static_cast<std::size_t>(memory_limit / 16 / 8) : std::numeric_limits<std::size_t>::max();
+}
+
+std::uint64_t gdal_cache_bytes(std::uint64_t memory_limit)
+{
+    return std::clamp<std::uint64_t>(memory_limit / 16 / k_mib, 4, 256) * k_mib;
+}
+
+std::uint64_t HeldByLimit::at(std::uint64_t memory_limit) const
+{
+    const std::uint64_t sample = 16 * std::min<std::uint64_t>(vertices, sample_vertices(memory_limit));
+    const std::uint64_t fids = 8 * std::min<std::uint64_t>(features, fid_buffer(memory_limit));
+    return sample + fids + std::min(input_bytes, gdal_cache_bytes(memory_limit));
+}
+
+// f(L) = fixed + grows.at(L) + L/4 + 16 MiB + tile rises by less than L (its slope is at most
+// 1/4 + 3/16), so iterating L <- f(L) from below climbs to the least fixed point.
+std::uint64_t smallest_limit(std::uint64_t tried, std::uint64_t held, const HeldByLimit& grows, std::uint64_t tile)
+{
+    const std::uint64_t fixed = held - std::min(held, grows.at(tried));
+    std::uint64_t limit = tried;
+    for (int i = 0; i < 200; ++i) {
+        const std::uint64_t need = fixed + grows.at(limit) + reserved_margin(limit) + tile;
+        if (need <= limit) {
+            break;
+        }
+        limit = need;
+    }
+    return (limit + k_mib - 1) / k_mib * k_mib;
 }
 
 void apply_gdal_budget(const RunBudget& budget)
 {
     if (budget.memory_limit > 0) {
-        const std::uint64_t cache_mb = std::clamp<std::uint64_t>(budget.memory_limit / 16 / k_mib, 4, 256);
+        const std::uint64_t cache_mb = gdal_cache_bytes(budget.memory_limit) / k_mib;
         set_default("OGR_SQLITE_CACHE", std::to_string(cache_mb));
         set_default("GDAL_CACHEMAX", std::to_string(cache_mb));
         set_default("OSM_MAX_TMPFILE_SIZE", std::to_string(std::clamp<std::uint64_t>(budget.memory_limit / 4 / k_mib, 16, 1024)));

@@ -19,6 +19,7 @@ struct RunBudget {
     bool on_disk = false;           ///< work files in a directory
     std::uint64_t memory_limit = 0; ///< bytes the whole process may hold; 0: not bounded
     std::uint64_t estimate = 0;     ///< the run's estimated peak (bytes), from the input's size
+    std::uint64_t input_bytes = 0;  ///< the input's files (0 for a connection string)
     std::string reason;             ///< why this mode, for the plan and the report
     std::string work_dir;
     bool resume = false;
@@ -34,5 +35,28 @@ void apply_gdal_budget(const RunBudget& budget);
 /// What the limit holds besides the tiles: the process before any tile (measured when the
 /// tiles start) plus this margin for GDAL's caches and the run's buffers.
 std::uint64_t reserved_margin(const RunBudget& budget);
+std::uint64_t reserved_margin(std::uint64_t memory_limit);
+
+/// Under a limit, the read phase's buffers: the plan's vertex sample (vertices; limit/16 bytes)
+/// and the FIDs the uniqueness check sorts in memory at once (limit/16 bytes); GDAL's SQLite
+/// cache (bytes) is set by apply_gdal_budget().
+std::size_t sample_vertices(std::uint64_t memory_limit);
+std::size_t fid_buffer(std::uint64_t memory_limit);
+std::uint64_t gdal_cache_bytes(std::uint64_t memory_limit);
+
+/// What a layer makes the process hold before any tile beyond what does not depend on the limit:
+/// the buffers above, each no larger than the layer fills it.
+struct HeldByLimit {
+    std::uint64_t vertices = 0;    ///< the layer's engine vertices (the sample holds at most all)
+    std::uint64_t features = 0;    ///< its features (the FID buffer holds at most all)
+    std::uint64_t input_bytes = 0; ///< its files (the SQLite cache holds at most all of them)
+    std::uint64_t at(std::uint64_t memory_limit) const;
+};
+
+/// The smallest limit L under which a fresh run leaves `tile` bytes for the tiles: a process that
+/// held `held` under the limit `tried` holds held - grows.at(tried) + grows.at(L) under L, beside
+/// reserved_margin(L); the least L with L >= that + reserved_margin(L) + tile (a fixed point:
+/// the margin and the buffers grow with L), rounded up to a MiB.
+std::uint64_t smallest_limit(std::uint64_t tried, std::uint64_t held, const HeldByLimit& grows, std::uint64_t tile);
 
 } // namespace trisnap

@@ -35,13 +35,16 @@ public:
         Progress progress(m_args.progress, m_args.json_progress);
         Plan plan;
         double total = 0;
-        const RunResult result = snap_run(m_args, config, progress, plan, [&](CommitGroup& outputs, const Plan& p, const RunResult& r) {
+        int code = 0;
+        auto stage = [&](CommitGroup& outputs, const Plan& p, const RunResult& r) {
             total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             if (!m_args.report.empty()) {
                 stage_report(outputs, m_args.report, p, r, total);
             }
-        });
-        return deliver_run(m_args, plan, result, total);
+        };
+        auto deliver = [&](const Plan& p, const RunResult& r) { code = deliver_run(m_args, p, r, total); };
+        snap_run(m_args, config, progress, plan, stage, deliver);
+        return code;
     }
 
 private:
@@ -58,7 +61,8 @@ int deliver_run(const SnapArgs& args, const Plan& plan, const RunResult& result,
         for (std::size_t k = 0; plan.layers.size() > 1 && k < plan.layers.size(); ++k) {
             names.push_back(plan.layers[k]->GetName());
         }
-        write_problems_layer(args.problems_layer, result.problems, plan.layer->GetSpatialRef(), update, names);
+        const ProblemSource problems = [&](const std::function<void(const Problem&)>& f) { result.problems.for_each(f); };
+        write_problems_layer(args.problems_layer, problems, plan.layer->GetSpatialRef(), update, names);
     }
     if (args.quiet == 0) {
         print_summary(is_stdout_path(plan.write.path) ? std::cerr : std::cout, plan, result, total_seconds);

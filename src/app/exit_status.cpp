@@ -25,6 +25,19 @@ std::string full_message(const std::exception& e)
     return text;
 }
 
+// "work directory DIR: no room left for the work files (features.bin...: cannot write: No space
+// left on device); ...": the directory first, the file relative to it.
+std::string disk_full_message(const tiling::disk_full_error& e)
+{
+    std::string detail = e.what();
+    const std::string prefix = e.directory() + "/";
+    if (detail.rfind(prefix, 0) == 0) {
+        detail.erase(0, prefix.size());
+    }
+    return "work directory " + e.directory() + ": no room left for the work files (" + detail +
+           "); free some space there or give --work-dir on a larger disk";
+}
+
 } // namespace
 
 bool is_out_of_memory(const std::exception& e)
@@ -52,6 +65,9 @@ ExitStatus exit_status(const std::exception& e)
     }
     if (const auto* stop = dynamic_cast<const interrupted*>(&e)) {
         return {stop->signal() == SIGINT ? 130 : 1, e.what()};
+    }
+    if (const auto* full = dynamic_cast<const tiling::disk_full_error*>(&e)) {
+        return {1, disk_full_message(*full)};
     }
     if (dynamic_cast<const stitch::tile_error*>(&e) != nullptr) {
         return {1, std::string(e.what()) + "; nothing was left at OUT (--on-error skip retries the tile merged with "

@@ -4,6 +4,7 @@
 // stitch::TiledRun's.)
 #include "app/interrupt.hpp"
 #include "app/pipeline.hpp"
+#include "app/problem_log.hpp"
 #include "app/plan.hpp"
 #include "app/progress.hpp"
 #include "stitch/output.hpp"
@@ -14,13 +15,14 @@
 
 namespace trisnap {
 
-/// One input feature in records.bin: its FID, what happened to it, its linear type (for the
-/// output geometry's type).
+/// One input feature in records.bin: its FID, what happened to it, whether the read reported a
+/// problem for it, its linear type (for the output geometry's type).
 struct RecordEntry {
     enum Verdict : std::uint8_t { pass = 0, snap = 1, rejected = 2 };
     static constexpr std::size_t k_bytes = 13;
     std::int64_t fid = 0;
     Verdict verdict = pass;
+    bool problem = false; ///< stored in the verdict's byte (bit 7)
     std::uint32_t type = 0;
     void encode(char* out) const;
     static RecordEntry decode(const char* in);
@@ -35,7 +37,7 @@ struct LayerRead {
     std::uint64_t rejected = 0;       ///< not given to the engine and not written (NaN/inf)
     std::uint64_t input_vertices = 0; ///< of the snapped features
     std::uint64_t snapped = 0;        ///< given to the engine
-    std::uint64_t problems = 0;       ///< its problems: a consecutive run of ReadSummary::problems
+    std::uint64_t problems = 0;       ///< its problems (ReadSummary::problems.in_layer())
     bool fids_unique = true;          ///< its FIDs are unique within it: its output keeps them
 };
 
@@ -44,24 +46,34 @@ struct ReadSummary {
     std::size_t records = 0;        ///< features read (after --where/--bbox)
     std::size_t rejected = 0;       ///< not given to the engine and not written (NaN/inf)
     std::size_t input_vertices = 0; ///< of the snapped features, as GDAL counts them
-    std::vector<Problem> problems;  ///< found while reading and cleaning (input FIDs)
+    ProblemLog problems;            ///< found while reading and cleaning (input FIDs), sealed
     stitch::SpoolMeta meta;
     std::vector<LayerRead> layers;  ///< per input layer, in --layer order
 };
 
+/// What the read phase holds in memory at most: the plan's vertex sample, the FIDs sorted at
+/// once by the uniqueness check, the problems buffered before they go to the store.
+struct ReadBuffers {
+    std::size_t sample_vertices = 0;
+    std::size_t fids = 0;
+    std::size_t problem_bytes = 0;
+};
+
 /// Reads the layers once, one after the other (geometries only; attributes are read again when
 /// writing) into features.bin and records.bin (each input feature's FID, what happened to it,
-/// and its type); input positions run on across layers. Throws io_error when nothing is read.
-ReadSummary read_layer(Plan& plan, tiling::WorkStore& store, std::size_t sample_cap, std::size_t fid_buffer,
-                       Progress& progress, const InterruptGuard& interrupt);
+/// and its type) and the problems into runs of the store; input positions run on across layers.
+/// Throws io_error when nothing is read.
+ReadSummary read_layer(Plan& plan, tiling::WorkStore& store, const ReadBuffers& buffers, Progress& progress,
+                       const InterruptGuard& interrupt);
 
-/// The read phase's summary from an earlier run of this work directory (false: it did not finish).
-bool load_read(const tiling::WorkStore& store, ReadSummary& out);
+/// The read phase's summary from an earlier run of this work directory (false: it did not finish);
+/// its problems stay in the store, read back from there.
+bool load_read(tiling::WorkStore& store, std::size_t problem_bytes, ReadSummary& out);
 
 /// Reads the layers again in step with records.bin and the stitched features, and writes every
 /// feature in input order through `writer`, layer k to the writer's layer k (attributes and
 /// FIDs kept, geometry replaced by the snapped one). Fills written/dropped/unwritable, in total
-/// and per layer, and appends the features' problems.
+/// and per layer, and adds the features' problems to the result's log (a phase of its own).
 void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerger& merger, LayerWriter& writer,
                  RunResult& result, Progress& progress, const InterruptGuard& interrupt);
 

@@ -84,7 +84,8 @@ RunResult run_pipeline(Plan& plan, WorkDir& work, const RunBudget& budget, Progr
     return phases.finish();
 }
 
-RunResult snap_run(const SnapArgs& args, const Config& config, Progress& progress, Plan& plan, const StageOutputs& stage)
+RunResult snap_run(const SnapArgs& args, const Config& config, Progress& progress, Plan& plan, const StageOutputs& stage,
+                   const DeliverRun& deliver)
 {
     if (args.input.empty() || args.output.empty()) {
         throw argument_error(std::string("missing ") + (args.input.empty() ? "IN" : "OUT") + ": trisnap snap IN OUT --tolerance T");
@@ -108,7 +109,16 @@ RunResult snap_run(const SnapArgs& args, const Config& config, Progress& progres
     }
     outputs.commit();
     plan.write.commit_group = nullptr;
+    if (deliver) {
+        try {
+            deliver(plan, result);
+        } catch (...) {
+            work.finish(); // OUT is in place: the run is done, its work is of no more use
+            throw;
+        }
+    }
     work.finish();
+    result.problems.close();
     return result;
 }
 
@@ -121,6 +131,7 @@ std::string run_manifest(const Plan& plan)
     nlohmann::ordered_json m = {
         {"tool", "trisnap"},
         {"version", k_version},
+        {"work_format", stitch::k_work_format},
         {"input", {{"path", plan.input_path}, {"files", input_files(plan)}, {"layer", layer_list(plan)},
                    {"where", plan.layer->GetAttrQueryString() ? plan.layer->GetAttrQueryString() : ""},
                    {"bbox", plan.bbox}}},

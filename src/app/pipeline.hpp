@@ -13,6 +13,7 @@
 // written has at least one problem carrying its input FID.
 #include "app/budget.hpp"
 #include "app/plan.hpp"
+#include "app/problem_log.hpp"
 #include "app/progress.hpp"
 #include "app/work_dir.hpp"
 #include "core/problems.hpp"
@@ -47,8 +48,9 @@ struct LayerCounts {
 };
 
 struct RunResult {
-    /// feature_id is the input FID of input layer `layer`; sorted by layer, FID, then code
-    std::vector<Problem> problems;
+    /// feature_id is the input FID of input layer `layer`; read back sorted by layer, FID, then
+    /// code (ProblemLog), held in the work store beyond a bound, so valid while the WorkDir is
+    ProblemLog problems;
     std::size_t input = 0;
     std::size_t written = 0;
     std::size_t rejected = 0;      ///< not given to the engine (NaN/inf coordinates)
@@ -82,13 +84,16 @@ RunResult run_pipeline(Plan& plan, WorkDir& work, const RunBudget& budget, Progr
 
 /// Files added to OUT's commit (the report) once the run is done, before they all go into place.
 using StageOutputs = std::function<void(CommitGroup&, const Plan&, const RunResult&)>;
+/// What is done once OUT is in place, while the work files (the problem log) are still there.
+using DeliverRun = std::function<void(const Plan&, const RunResult&)>;
 
 /// A snap run as the CLI makes it: the budget, the work directory (continued with --resume),
 /// the plan (opens the input; `plan` receives it), the pipeline, then OUT and what `stage`
-/// adds renamed into place together; the work directory is removed after that. `seconds_open`
-/// of the result is the plan's time.
+/// adds renamed into place together, then `deliver`; the work directory is removed after that
+/// (also when `deliver` throws). `seconds_open` of the result is the plan's time. The result's
+/// problem log is closed (its counts stay).
 RunResult snap_run(const SnapArgs& args, const Config& config, Progress& progress, Plan& plan,
-                   const StageOutputs& stage = {});
+                   const StageOutputs& stage = {}, const DeliverRun& deliver = {});
 
 /// The manifest of a run for its work directory: what must match for --resume.
 std::string run_manifest(const Plan& plan);

@@ -101,6 +101,15 @@ void Progress::update(std::int64_t done)
     }
 }
 
+void Progress::update(std::int64_t done, std::int64_t total)
+{
+    {
+        const std::lock_guard lock(m_mutex);
+        m_total = total;
+    }
+    update(done);
+}
+
 void Progress::finish()
 {
     const std::lock_guard lock(m_mutex);

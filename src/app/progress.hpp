@@ -25,6 +25,8 @@ public:
     void start(const std::string& phase, std::int64_t total, const std::string& unit = "features");
     /// Reports `done` units (never less than before in a phase).
     void update(std::int64_t done);
+    /// The same, with a total that grew (a phase that found more work: the stitch's seam merges).
+    void update(std::int64_t done, std::int64_t total);
     /// Ends the phase (final bar line, final JSON line).
     void finish();
 

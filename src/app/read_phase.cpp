@@ -1,5 +1,6 @@
 // The read phase: the layer once, in input order, geometries to the spool (features.bin),
-// one small entry per feature to records.bin, problems kept in read.bin.
+// one small entry per feature to records.bin, problems to runs of the store (problems-read-N,
+// listed in read.bin).
 #include "app/phases.hpp"
 
 #include "io/io_error.hpp"
@@ -13,6 +14,7 @@ namespace trisnap {
 namespace {
 
 const char* const k_read = "read.bin";
+const char* const k_read_problems = "problems-read-"; ///< the read phase's problem runs
 
 std::size_t vertices_of(const Geometry& g)
 {
@@ -57,13 +59,8 @@ void save_read(tiling::WorkStore& store, const ReadSummary& s)
     w.put<std::uint64_t>(s.records);
     w.put<std::uint64_t>(s.rejected);
     w.put<std::uint64_t>(s.input_vertices);
-    w.put<std::uint64_t>(s.problems.size());
-    for (const Problem& p : s.problems) {
-        tiling::put_problem(w, p);
-    }
+    s.problems.save(w);
     s.meta.save(w);
-    // The layers last: their problems are consecutive runs of the list above (put_problem
-    // does not store the layer).
     w.put<std::uint64_t>(s.layers.size());
     for (const LayerRead& l : s.layers) {
         for (std::uint64_t v : {l.records, l.rejected, l.input_vertices, l.snapped, l.problems}) {
@@ -88,14 +85,15 @@ void read_features(LayerReader& reader, std::uint32_t k, ReadTarget& to)
 {
     ReadSummary& s = to.summary;
     LayerRead& layer = s.layers.emplace_back();
-    const std::size_t first_problem = s.problems.size();
+    std::vector<Problem> found; // one feature's
     char entry[RecordEntry::k_bytes];
     while (auto feature = reader.next()) {
         to.interrupt.check();
+        found.clear();
         if (feature->problem) {
-            s.problems.push_back(*feature->problem);
+            found.push_back(*feature->problem);
         }
-        RecordEntry e{feature->fid, RecordEntry::pass, static_cast<std::uint32_t>(feature->input_type)};
+        RecordEntry e{feature->fid, RecordEntry::pass, false, static_cast<std::uint32_t>(feature->input_type)};
         if (feature->rejected) {
             e.verdict = RecordEntry::rejected;
             ++layer.rejected;
@@ -104,9 +102,14 @@ void read_features(LayerReader& reader, std::uint32_t k, ReadTarget& to)
             e.verdict = RecordEntry::snap;
             layer.input_vertices += vertices_of(*feature->geometry);
             ++layer.snapped;
-            to.spool.add(s.records, feature->fid, *feature->geometry, s.problems);
+            to.spool.add(s.records, feature->fid, *feature->geometry, found);
         } else {
             to.spool.skip(feature->fid);
+        }
+        e.problem = !found.empty();
+        for (Problem& p : found) {
+            p.layer = k;
+            s.problems.add(std::move(p));
         }
         e.encode(entry);
         to.records.write(std::string_view(entry, sizeof entry));
@@ -114,22 +117,21 @@ void read_features(LayerReader& reader, std::uint32_t k, ReadTarget& to)
         ++layer.records;
         to.progress.update(static_cast<std::int64_t>(s.records));
     }
-    for (std::size_t i = first_problem; i < s.problems.size(); ++i) {
-        s.problems[i].layer = k;
-    }
-    layer.problems = s.problems.size() - first_problem;
+    layer.problems = s.problems.in_layer(k);
     s.rejected += layer.rejected;
     s.input_vertices += layer.input_vertices;
 }
 
 } // namespace
 
-ReadSummary read_layer(Plan& plan, tiling::WorkStore& store, std::size_t sample_cap, std::size_t fid_buffer,
-                       Progress& progress, const InterruptGuard& interrupt)
+ReadSummary read_layer(Plan& plan, tiling::WorkStore& store, const ReadBuffers& buffers, Progress& progress,
+                       const InterruptGuard& interrupt)
 {
     ReadSummary s;
+    s.problems = ProblemLog(store, k_read_problems, buffers.problem_bytes);
+    s.problems.begin_phase(k_read_problems); // an earlier attempt's runs go
     {
-        stitch::FeatureSpool spool(store, plan.options.tolerance, sample_cap, fid_buffer);
+        stitch::FeatureSpool spool(store, plan.options.tolerance, buffers.sample_vertices, buffers.fids);
         const std::unique_ptr<tiling::OutFile> records = store.create(k_records_file);
         ReadTarget to{s, spool, *records, progress, interrupt};
         for (std::size_t k = 0; k < plan.layers.size(); ++k) {
@@ -156,11 +158,12 @@ ReadSummary read_layer(Plan& plan, tiling::WorkStore& store, std::size_t sample_
                            ? "no feature matches --where/--bbox: nothing to snap"
                            : "the layer is empty: nothing to snap");
     }
+    s.problems.seal();
     save_read(store, s);
     return s;
 }
 
-bool load_read(const tiling::WorkStore& store, ReadSummary& out)
+bool load_read(tiling::WorkStore& store, std::size_t problem_bytes, ReadSummary& out)
 {
     if (!store.exists(k_read)) {
         return false;
@@ -170,27 +173,15 @@ bool load_read(const tiling::WorkStore& store, ReadSummary& out)
     out.records = r.get<std::uint64_t>();
     out.rejected = r.get<std::uint64_t>();
     out.input_vertices = r.get<std::uint64_t>();
-    out.problems.resize(r.get<std::uint64_t>());
-    for (Problem& p : out.problems) {
-        p = tiling::get_problem(r);
-    }
+    out.problems = ProblemLog(store, k_read_problems, problem_bytes);
+    out.problems.load(r);
     out.meta = stitch::SpoolMeta::load(r);
-    if (r.done()) { // written before read.bin held its layers: one layer
-        out.layers = {LayerRead{out.records, out.rejected, out.input_vertices, out.meta.spooled, out.problems.size(),
-                                out.meta.fids_unique}};
-        return true;
-    }
     out.layers.resize(r.get<std::uint64_t>());
-    std::size_t next_problem = 0;
-    for (std::size_t k = 0; k < out.layers.size(); ++k) {
-        LayerRead& l = out.layers[k];
+    for (LayerRead& l : out.layers) {
         for (std::uint64_t* v : {&l.records, &l.rejected, &l.input_vertices, &l.snapped, &l.problems}) {
             *v = r.get<std::uint64_t>();
         }
         l.fids_unique = r.get<std::uint8_t>() != 0;
-        for (std::size_t i = 0; i < l.problems && next_problem < out.problems.size(); ++i) {
-            out.problems[next_problem++].layer = static_cast<std::uint32_t>(k);
-        }
     }
     return true;
 }
@@ -198,7 +189,7 @@ bool load_read(const tiling::WorkStore& store, ReadSummary& out)
 void RecordEntry::encode(char* out) const
 {
     std::memcpy(out, &fid, sizeof fid);
-    out[8] = static_cast<char>(verdict);
+    out[8] = static_cast<char>(verdict | (problem ? 0x80 : 0));
     std::memcpy(out + 9, &type, sizeof type);
 }
 
@@ -206,7 +197,9 @@ RecordEntry RecordEntry::decode(const char* in)
 {
     RecordEntry e;
     std::memcpy(&e.fid, in, sizeof e.fid);
-    e.verdict = static_cast<Verdict>(in[8]);
+    const auto byte = static_cast<std::uint8_t>(in[8]);
+    e.verdict = static_cast<Verdict>(byte & 0x7f);
+    e.problem = (byte & 0x80) != 0;
     std::memcpy(&e.type, in + 9, sizeof e.type);
     return e;
 }

@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <ostream>
+#include <stdexcept>
 #include <sys/resource.h>
 
 namespace trisnap {
@@ -104,19 +105,15 @@ ordered_json tiling_json(const RunResult& r)
 ordered_json coordinate(double v) { return std::isfinite(v) ? ordered_json(v) : ordered_json(nullptr); }
 
 // With several layers each problem says whose FID it carries ("layer" after "fid").
-ordered_json problems_json(const Plan& plan, const std::vector<Problem>& problems)
+ordered_json problem_json(const Plan& plan, const Problem& p)
 {
-    ordered_json list = ordered_json::array();
-    for (const Problem& p : problems) {
-        ordered_json item = {{"fid", p.feature_id}};
-        if (plan.layers.size() > 1) {
-            item["layer"] = plan.layers.at(p.layer)->GetName();
-        }
-        item.update(ordered_json{{"code", static_cast<int>(p.code)}, {"name", problem_name(p.code)},
-                                 {"message", p.message}, {"x", coordinate(p.x)}, {"y", coordinate(p.y)}});
-        list.push_back(std::move(item));
+    ordered_json item = {{"fid", p.feature_id}};
+    if (plan.layers.size() > 1) {
+        item["layer"] = plan.layers.at(p.layer)->GetName();
     }
-    return list;
+    item.update(ordered_json{{"code", static_cast<int>(p.code)}, {"name", problem_name(p.code)},
+                             {"message", p.message}, {"x", coordinate(p.x)}, {"y", coordinate(p.y)}});
+    return item;
 }
 
 const char* fids_kept(const Plan& plan, bool renumbered)
@@ -130,10 +127,7 @@ ordered_json layers_json(const Plan& plan, const RunResult& r)
     ordered_json list = ordered_json::array();
     for (std::size_t k = 0; k < r.layers.size(); ++k) {
         const LayerCounts& c = r.layers[k];
-        std::size_t problems = 0;
-        for (const Problem& p : r.problems) {
-            problems += p.layer == k ? 1 : 0;
-        }
+        const std::uint64_t problems = r.problems.in_layer(static_cast<std::uint32_t>(k));
         list.push_back({{"name", plan.layers[k]->GetName()}, {"output_layer", output_layer_name(plan, k)},
                         {"fids", fids_kept(plan, c.fids_renumbered)},
                         {"counts", {{"input", c.input}, {"written", c.written}, {"snapped", c.snapped},
@@ -144,10 +138,10 @@ ordered_json layers_json(const Plan& plan, const RunResult& r)
     return list;
 }
 
-ordered_json by_code_json(const std::vector<Problem>& problems)
+ordered_json by_code_json(const ProblemLog& problems)
 {
     ordered_json out = ordered_json::object();
-    for (const auto& [code, n] : count_by_code(problems))
+    for (const auto& [code, n] : problems.by_code())
         out[std::to_string(code)] = {{"name", problem_name(static_cast<ProblemCode>(code))}, {"count", n}};
     return out;
 }
@@ -183,14 +177,37 @@ double peak_memory_mb()
     return static_cast<double>(usage.ru_maxrss) / 1024.0; // Linux reports KiB
 }
 
-std::map<int, std::size_t> count_by_code(const std::vector<Problem>& problems)
+void write_json_streaming_last_array(const ordered_json& document, const std::string& key,
+                                     const std::function<void(const std::function<void(const ordered_json&)>&)>& items,
+                                     const std::function<void(std::string_view)>& put)
 {
-    std::map<int, std::size_t> counts;
-    for (const Problem& p : problems) ++counts[static_cast<int>(p.code)];
-    return counts;
+    const std::string text = document.dump(2, ' ', false, ordered_json::error_handler_t::replace);
+    const std::string tail = "\"" + key + "\": []\n}";
+    if (text.size() < tail.size() || text.compare(text.size() - tail.size(), tail.size(), tail) != 0) {
+        throw std::logic_error("write_json_streaming_last_array: \"" + key + "\" is not the last member, or not empty");
+    }
+    put(std::string_view(text).substr(0, text.size() - 4)); // all but the empty array and the brace
+    bool first = true;
+    items([&](const ordered_json& item) {
+        // dump(2) of the whole indents an array element of a top-level member by 4 spaces, and
+        // every line of it by 4 more than dumping it alone.
+        std::string lines = item.dump(2, ' ', false, ordered_json::error_handler_t::replace);
+        std::string out = first ? "[\n    " : ",\n    ";
+        out.reserve(out.size() + lines.size() + 64);
+        for (char c : lines) {
+            out += c;
+            if (c == '\n') {
+                out += "    ";
+            }
+        }
+        put(out);
+        first = false;
+    });
+    put(first ? "[]\n}" : "\n  ]\n}");
 }
 
-std::string report_text(const Plan& plan, const RunResult& result, double total_seconds)
+void write_report(const Plan& plan, const RunResult& result, double total_seconds,
+                  const std::function<void(std::string_view)>& put)
 {
     ordered_json report = {{"tool", "trisnap"}, {"version", k_version}, {"command", "snap"}};
     report.update(io_json(plan, result));
@@ -205,14 +222,26 @@ std::string report_text(const Plan& plan, const RunResult& result, double total_
     report["memory"] = memory_json(result);
     report["tiling"] = tiling_json(result);
     report["problems_by_code"] = by_code_json(result.problems);
-    report["problems"] = problems_json(plan, result.problems);
-    return report.dump(2, ' ', false, ordered_json::error_handler_t::replace) + "\n";
+    report["problems"] = ordered_json::array();
+    write_json_streaming_last_array(report, "problems", [&](const auto& item) {
+        result.problems.for_each([&](const Problem& p) { item(problem_json(plan, p)); });
+    }, put);
+    put("\n");
+}
+
+std::string report_text(const Plan& plan, const RunResult& result, double total_seconds)
+{
+    std::string text;
+    write_report(plan, result, total_seconds, [&](std::string_view chunk) { text.append(chunk); });
+    return text;
 }
 
 void stage_report(CommitGroup& group, const std::string& path, const Plan& plan, const RunResult& result,
                   double total_seconds)
 {
-    stage_text_file(group, path, report_text(plan, result, total_seconds), plan.write.protected_files, "--report");
+    stage_text_stream(group, path, [&](const std::function<void(std::string_view)>& put) {
+        write_report(plan, result, total_seconds, put);
+    }, plan.write.protected_files, "--report");
 }
 
 void print_summary(std::ostream& out, const Plan& plan, const RunResult& r, double total_seconds)
@@ -230,7 +259,7 @@ void print_summary(std::ostream& out, const Plan& plan, const RunResult& r, doub
                            c.unwritable);
     }
     std::string codes;
-    for (const auto& [code, n] : count_by_code(r.problems))
+    for (const auto& [code, n] : r.problems.by_code())
         codes += fmt::format("{}{} {} x{}", codes.empty() ? "" : ", ", code,
                              problem_name(static_cast<ProblemCode>(code)), n);
     out << fmt::format("{}{}{}\n", count_of(r.problems.size(), "problem"), codes.empty() ? "" : ": ", codes);

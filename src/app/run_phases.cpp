@@ -1,5 +1,6 @@
 #include "app/run_phases.hpp"
 
+#include "app/disk_space.hpp"
 #include "app/memory.hpp"
 #include "config/errors.hpp"
 #include "io/io_error.hpp"
@@ -23,22 +24,6 @@ constexpr std::uint64_t k_mib = 1024 * 1024;
 double since(Clock::time_point start)
 {
     return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-// The spool needs about features.bin again for the buckets and as much for the results.
-void check_disk(const WorkDir& work, const tiling::WorkStore& store, const stitch::SpoolMeta& meta)
-{
-    if (!work.on_disk()) {
-        return;
-    }
-    const std::uint64_t features = store.total_bytes();
-    const std::uint64_t need = 2 * features + 64 * k_mib;
-    const std::uint64_t free = store.free_space();
-    if (free < need) {
-        throw io_error(work.path(), "", fmt::format("not enough free disk for the work files: about {} more are needed "
-                                                    "for {} features, {} are free; give --work-dir on a larger disk",
-                                                    format_size(need), meta.spooled, format_size(free)));
-    }
 }
 
 } // namespace
@@ -119,30 +104,30 @@ void RunPhases::take_read(ReadSummary& summary)
     m_meta = std::move(summary.meta);
 }
 
-// With a limit, the plan's sample and the FID check's buffer take a sixteenth of it each;
-// without, the sample holds up to 16 M vertices (256 MiB).
+// With a limit, the plan's sample and the FID check's buffer take a sixteenth of it each, the
+// problems a thirty-second; without, the sample holds up to 16 M vertices (256 MiB).
 void RunPhases::read(Plan& plan)
 {
     ReadSummary summary;
     phase("plan", [&] {
-        if (m_work.resumed() && trisnap::load_read(m_work.store(), summary)) {
+        if (m_work.resumed() && trisnap::load_read(m_work.store(), problem_buffer(), summary)) {
             spdlog::info("read: taken from the work directory (resumed)");
             return;
         }
+        check_disk_before_read(m_work, plan);
         const std::uint64_t limit = m_budget.memory_limit;
-        const std::size_t sample_cap = limit ? static_cast<std::size_t>(limit / 16 / 16) : std::size_t{16} << 20;
-        const std::size_t fid_buffer = limit ? static_cast<std::size_t>(limit / 16 / 8) : std::numeric_limits<std::size_t>::max();
-        summary = read_layer(plan, m_work.store(), sample_cap, fid_buffer, m_progress, m_interrupt);
+        const ReadBuffers buffers{sample_vertices(limit), fid_buffer(limit), problem_buffer()};
+        summary = read_layer(plan, m_work.store(), buffers, m_progress, m_interrupt);
     });
     m_result.seconds_read = m_result.phases.back().seconds;
     take_read(summary);
-    check_disk(m_work, m_work.store(), m_meta);
+    check_disk_after_read(m_work, m_meta);
 }
 
 bool RunPhases::load_read()
 {
     ReadSummary summary;
-    if (!trisnap::load_read(m_work.store(), summary)) {
+    if (!trisnap::load_read(m_work.store(), problem_buffer(), summary)) {
         return false;
     }
     take_read(summary);
@@ -161,24 +146,33 @@ std::uint64_t RunPhases::memory_pool() const
     if (m_budget.memory_limit == 0) {
         return 0;
     }
-    const std::uint64_t held = current_rss() + reserved_margin(m_budget);
+    const std::uint64_t rss = current_rss();
+    const std::uint64_t held = rss + reserved_margin(m_budget);
     const std::uint64_t least = m_model.tile_bytes(1000);
     if (m_budget.memory_limit < held + least) {
         throw argument_error(fmt::format("--memory-limit {} is too small: the process holds {} before any tile, and the "
                                          "smallest tile needs {}; the smallest limit that would work is about {}",
                                          format_size(m_budget.memory_limit), format_size(held), format_size(least),
-                                         format_size(held + m_model.tile_bytes(20000))));
+                                         smallest_limit_text(rss, m_model.tile_bytes(20000))));
     }
     return m_budget.memory_limit - held;
+}
+
+// The limit under which a fresh run of this layer would hold `rss` (as now, the buffers that grow
+// with the limit grown) beside the margin and `tile`: a whole number of MiB, never less than it.
+std::string RunPhases::smallest_limit_text(std::uint64_t rss, std::uint64_t tile) const
+{
+    const HeldByLimit grows{m_meta.vertices, m_result.input, m_budget.input_bytes};
+    const std::uint64_t limit = smallest_limit(m_budget.memory_limit, rss, grows, tile);
+    return fmt::format("{} MiB", limit / k_mib);
 }
 
 // The smallest limit under which the tile that did not fit would run alone.
 void RunPhases::too_small(const stitch::budget_error& e) const
 {
-    const std::uint64_t held = current_rss() + reserved_margin(m_budget);
-    const std::uint64_t need = held + m_model.tile_bytes(e.vertices());
     throw argument_error(fmt::format("--memory-limit {} is too small: {}; the smallest limit that would work is about {}",
-                                     format_size(m_budget.memory_limit), e.what(), format_size(need + need / 8)));
+                                     format_size(m_budget.memory_limit), e.what(),
+                                     smallest_limit_text(current_rss(), m_model.tile_bytes(e.vertices()))));
 }
 
 void RunPhases::open_tiles()
@@ -197,6 +191,9 @@ void RunPhases::spool()
     phase("spool", [&] {
         m_progress.start("spool", static_cast<std::int64_t>(2 * m_meta.spooled), "feature reads");
         guarded([&] { m_run->plan(m_meta, on_pass); });
+        // The sample's vertices served only the plan (up to limit/16 bytes).
+        m_meta.sample.xs = {};
+        m_meta.sample.ys = {};
         m_progress.finish();
     });
 }
@@ -222,9 +219,11 @@ void RunPhases::snap(const std::function<bool(std::size_t)>& mine)
 
 void RunPhases::stitch()
 {
-    auto on_tiles = [&](std::uint64_t done, std::uint64_t) { m_progress.update(static_cast<std::int64_t>(done)); };
+    auto on_tiles = [&](std::uint64_t done, std::uint64_t total) {
+        m_progress.update(static_cast<std::int64_t>(done), static_cast<std::int64_t>(total));
+    };
     phase("stitch", [&] {
-        m_progress.start("stitch", -1, "vertices");
+        m_progress.start("stitch", static_cast<std::int64_t>(m_run->groups().live(m_run->layout()).size()), "tiles");
         guarded([&] { m_run->stitch(on_tiles); });
         m_progress.finish();
     });
@@ -262,10 +261,18 @@ RunResult& RunPhases::result() { return m_result; }
 
 RunResult RunPhases::finish()
 {
-    std::stable_sort(m_result.problems.begin(), m_result.problems.end(), [](const Problem& a, const Problem& b) {
-        return std::tie(a.layer, a.feature_id, a.code) < std::tie(b.layer, b.feature_id, b.code);
-    });
+    m_result.problems.seal();
+    spdlog::info("problems: {}, in {} sorted runs of the work files", m_result.problems.size(),
+                 m_result.problems.runs().size());
     return std::move(m_result);
+}
+
+// Problems held in memory before they go to the store: a thirty-second of the limit (a problem
+// takes about 100 bytes: 2 GiB holds 640 k at once); without a limit, all of them.
+std::size_t RunPhases::problem_buffer() const
+{
+    return m_budget.memory_limit ? static_cast<std::size_t>(m_budget.memory_limit / 32)
+                                 : std::numeric_limits<std::size_t>::max();
 }
 
 } // namespace trisnap

@@ -54,7 +54,7 @@ public:
 
     stitch::TiledRun& tiles();
     RunResult& result();
-    /// The result with its problems in order (by layer, FID, then code).
+    /// The result, its problems sealed (read back in order: by layer, FID, then code).
     RunResult finish();
 
 private:
@@ -64,6 +64,8 @@ private:
     void guarded(F&& body) const;
     std::uint64_t memory_pool() const;
     [[noreturn]] void too_small(const stitch::budget_error& e) const;
+    std::string smallest_limit_text(std::uint64_t rss, std::uint64_t tile) const;
+    std::size_t problem_buffer() const;
     void take_read(ReadSummary& summary);
 
     WorkDir& m_work;

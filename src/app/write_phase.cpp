@@ -1,6 +1,7 @@
 // The write phase: the layer read again (attributes, pass-through geometries) in step with
 // records.bin and the stitched features, written in input order. Nothing is held but the
-// current feature; a difference between the two reads (the input changed meanwhile) stops it.
+// current feature (and the problems' bounded buffer); a difference between the two reads (the
+// input changed meanwhile) stops it.
 #include "app/phases.hpp"
 
 #include "app/collapse_guard.hpp"
@@ -12,7 +13,6 @@
 #include <spdlog/spdlog.h>
 
 #include <limits>
-#include <set>
 
 namespace trisnap {
 namespace {
@@ -62,9 +62,6 @@ public:
     Writer(Plan& plan, stitch::OutputMerger& merger, LayerWriter& writer, RunResult& result)
         : m_plan(plan), m_merger(merger), m_writer(writer), m_result(result)
     {
-        for (const Problem& p : result.problems) {
-            m_reported.emplace(p.layer, p.feature_id);
-        }
     }
     /// Feature `seq` (input position across all layers) of input layer `k`.
     void feature(std::uint32_t k, std::size_t seq, const RecordEntry& e, OGRFeatureUniquePtr f);
@@ -76,32 +73,38 @@ public:
 
 private:
     void write(std::uint32_t k, std::int64_t fid, OGRFeature& f, OGRGeometry* geometry);
-    void vanished(std::uint32_t k, const RecordEntry& e);
+    void vanished(std::uint32_t k, const RecordEntry& e, bool reported);
 
     Plan& m_plan;
     stitch::OutputMerger& m_merger;
     LayerWriter& m_writer;
     RunResult& m_result;
-    std::set<std::pair<std::uint32_t, std::int64_t>> m_reported; ///< (layer, FID) with a problem
     stitch::OutputItem m_item;
 };
 
+// The values the format changed (903) go to the log as they are found, not held by the writer
+// until the end (their order in the log is the same: no other phase reports those codes).
 void Writer::write(std::uint32_t k, std::int64_t fid, OGRFeature& f, OGRGeometry* geometry)
 {
     if (std::string error = m_writer.write(k, f, fid, geometry); !error.empty()) {
         ++m_result.unwritable;
         ++m_result.layers[k].unwritable;
-        m_result.problems.push_back(feature_problem(k, fid, ProblemCode::unwritable_feature, error));
+        m_result.problems.add(feature_problem(k, fid, ProblemCode::unwritable_feature, error));
+    }
+    for (Problem& p : m_writer.take_problems()) {
+        m_result.problems.add(std::move(p));
     }
 }
 
-void Writer::vanished(std::uint32_t k, const RecordEntry& e)
+// A feature the engine returned empty: a problem says why, unless the read or the engine has
+// said something about it already (`reported`).
+void Writer::vanished(std::uint32_t k, const RecordEntry& e, bool reported)
 {
     ++m_result.dropped;
     ++m_result.layers[k].dropped;
-    if (!m_reported.count({k, e.fid})) {
+    if (!reported) {
         const auto type = static_cast<OGRwkbGeometryType>(e.type);
-        m_result.problems.push_back(feature_problem(k, e.fid, type == wkbPolygon || type == wkbMultiPolygon
+        m_result.problems.add(feature_problem(k, e.fid, type == wkbPolygon || type == wkbMultiPolygon
             ? ProblemCode::collapsed_polygon : ProblemCode::collapsed_line, "the feature vanished when snapped; not written"));
     }
 }
@@ -122,13 +125,13 @@ void Writer::feature(std::uint32_t k, std::size_t seq, const RecordEntry& e, OGR
     if (!m_merger.next(m_item) || m_item.seq != seq) {
         changed(k, "the stitched features do not line up with the input");
     }
+    const bool reported = e.problem || !m_item.problems.empty();
     for (Problem& p : m_item.problems) {
         p.layer = k;
-        m_reported.emplace(k, p.feature_id);
-        m_result.problems.push_back(std::move(p));
+        m_result.problems.add(std::move(p));
     }
     if (m_item.output.geometry.empty()) {
-        vanished(k, e);
+        vanished(k, e, reported);
         return;
     }
     f->SetGeometryDirectly(nullptr);
@@ -166,6 +169,7 @@ void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerge
                  RunResult& result, Progress& progress, const InterruptGuard& interrupt)
 {
     RecordLog log(store);
+    result.problems.begin_phase("problems-write-"); // runs of a write that stopped go
     Writer w(plan, merger, writer, result);
     progress.start("write", static_cast<std::int64_t>(result.input));
     std::size_t seq = 0;
@@ -179,7 +183,7 @@ void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerge
     check_collapse(plan, result.dropped - merger.counts().failed, result.input);
     writer.commit();
     for (Problem& p : writer.take_problems()) {
-        result.problems.push_back(std::move(p)); // values and field names the format changed
+        result.problems.add(std::move(p)); // values and field names the format changed
     }
     for (const std::string& line : writer.warnings()) {
         spdlog::warn("{}: {}", plan.write.path, line); // one line per field and kind, not per feature

@@ -60,15 +60,25 @@ void write_all(int fd, const std::string& text, const std::string& path)
     }
 }
 
-/// Creates `temp` with `text`, flushed to disk; throws io_error naming `path`, leaving no `temp`.
-void write_flushed_file(const fs::path& temp, const std::string& text, const std::string& path)
+/// Creates `temp` with the text `write` gives (written in pieces of up to 1 MiB), flushed to
+/// disk; throws io_error naming `path`, leaving no `temp`.
+void write_flushed_file(const fs::path& temp, const TextWriter& write, const std::string& path)
 {
     const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
     if (fd < 0) {
         throw io_error(path, "", "cannot create " + temp.string() + ": " + std::strerror(errno));
     }
     try {
-        write_all(fd, text, path);
+        constexpr std::size_t k_buffer = 1 << 20;
+        std::string buffer;
+        write([&](std::string_view piece) {
+            buffer.append(piece);
+            if (buffer.size() >= k_buffer) {
+                write_all(fd, buffer, path);
+                buffer.clear();
+            }
+        });
+        write_all(fd, buffer, path);
         if (::fsync(fd) != 0) {
             throw io_error(path, "", std::string("cannot flush to disk: ") + std::strerror(errno));
         }
@@ -208,10 +218,16 @@ void check_text_file_target(const std::string& path, const ProtectedFiles& prote
 void stage_text_file(CommitGroup& group, const std::string& path, const std::string& text,
                      const ProtectedFiles& protect, const std::string& label)
 {
+    stage_text_stream(group, path, [&](const std::function<void(std::string_view)>& put) { put(text); }, protect, label);
+}
+
+void stage_text_stream(CommitGroup& group, const std::string& path, const TextWriter& write,
+                       const ProtectedFiles& protect, const std::string& label)
+{
     check_text_file_target(path, protect, label);
     remove_stale_temporaries(path);
     const fs::path temp = fs::absolute(temporary_sibling(path));
-    write_flushed_file(temp, text, path);
+    write_flushed_file(temp, write, path);
     group.stage(temp, path, true, label);
 }
 

@@ -14,7 +14,9 @@
 #include "io/file_safety.hpp"
 
 #include <filesystem>
+#include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace trisnap {
@@ -72,6 +74,14 @@ private:
 /// such as /dev/full), io_error naming `path` when it cannot be written.
 void stage_text_file(CommitGroup& group, const std::string& path, const std::string& text,
                      const ProtectedFiles& protect, const std::string& label);
+
+/// Text written in pieces: calls its argument with each piece, in order.
+using TextWriter = std::function<void(const std::function<void(std::string_view)>&)>;
+
+/// stage_text_file() for a text too large to hold (a report with millions of problems): `write`
+/// gives it piece by piece; the same checks and guarantees.
+void stage_text_stream(CommitGroup& group, const std::string& path, const TextWriter& write,
+                       const ProtectedFiles& protect, const std::string& label);
 
 /// stage_text_file() and commit() in one: `path` holds either its old content or all of `text`.
 void write_text_file_atomically(const std::string& path, const std::string& text,

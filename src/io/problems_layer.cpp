@@ -64,7 +64,7 @@ void write_problem(OGRLayer& layer, const Problem& problem, const std::string& p
 }
 
 /// Layer "problems" in `dataset`; GPKG keeps its own FID column out of the way of our "fid" field.
-void fill_dataset(GDALDataset& dataset, const std::string& path, const std::vector<Problem>& problems,
+void fill_dataset(GDALDataset& dataset, const std::string& path, const ProblemSource& problems,
                   OGRSpatialReference* srs, const std::vector<std::string>& layers)
 {
     ScopedErrorCapture capture;
@@ -77,13 +77,11 @@ void fill_dataset(GDALDataset& dataset, const std::string& path, const std::vect
         throw io_error(path, k_layer, capture.last_error("cannot create the layer"));
     }
     create_fields(*layer, path, layers);
-    for (const Problem& problem : problems) {
-        write_problem(*layer, problem, path, layers);
-    }
+    problems([&](const Problem& problem) { write_problem(*layer, problem, path, layers); });
 }
 
 /// A new file at `temp`, in one transaction.
-void write_dataset(const std::string& temp, const std::string& path, const std::vector<Problem>& problems,
+void write_dataset(const std::string& temp, const std::string& path, const ProblemSource& problems,
                    OGRSpatialReference* srs, const std::vector<std::string>& layers)
 {
     GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(driver_for(path).c_str());
@@ -103,7 +101,7 @@ void write_dataset(const std::string& temp, const std::string& path, const std::
 
 /// An existing GeoPackage: its layer "problems" replaced (or added) in one transaction, its
 /// other layers kept; any failure rolls the transaction back.
-void update_dataset(const std::string& path, const std::vector<Problem>& problems, OGRSpatialReference* srs,
+void update_dataset(const std::string& path, const ProblemSource& problems, OGRSpatialReference* srs,
                     const std::vector<std::string>& layers)
 {
     const char* const drivers[] = {"GPKG", nullptr};
@@ -170,6 +168,15 @@ void check_problems_layer_path(const std::string& path, bool overwrite, bool upd
 
 void write_problems_layer(const std::string& path, const std::vector<Problem>& problems,
                           OGRSpatialReference* srs, bool update, const std::vector<std::string>& layers)
+{
+    const ProblemSource source = [&](const std::function<void(const Problem&)>& f) {
+        std::for_each(problems.begin(), problems.end(), f);
+    };
+    write_problems_layer(path, source, srs, update, layers);
+}
+
+void write_problems_layer(const std::string& path, const ProblemSource& problems, OGRSpatialReference* srs,
+                          bool update, const std::vector<std::string>& layers)
 {
     if (updates_gpkg(path, update)) {
         update_dataset(path, problems, srs, layers);

@@ -5,6 +5,7 @@
 
 #include <ogr_spatialref.h>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -25,5 +26,12 @@ void check_problems_layer_path(const std::string& path, bool overwrite, bool upd
 void write_problems_layer(const std::string& path, const std::vector<Problem>& problems,
                           OGRSpatialReference* srs, bool update = false,
                           const std::vector<std::string>& layers = {});
+
+/// Calls its argument with each problem, in order (a run's log read back from its work files).
+using ProblemSource = std::function<void(const std::function<void(const Problem&)>&)>;
+
+/// The same, the problems one at a time from `problems` (never all in memory).
+void write_problems_layer(const std::string& path, const ProblemSource& problems, OGRSpatialReference* srs,
+                          bool update = false, const std::vector<std::string>& layers = {});
 
 } // namespace trisnap

@@ -66,6 +66,11 @@ TEST_F(CliErrors, JsonProgressLinesOnStderr)
             EXPECT_EQ(j["unit"], "vertices") << line;
             EXPECT_GT(j["total"].get<std::int64_t>(), 0) << line;
         }
+        if (phase == "stitch") {
+            // Tiles checked at seams, of the tiles there are (one here).
+            EXPECT_EQ(j["unit"], "tiles") << line;
+            EXPECT_EQ(j["total"].get<std::int64_t>(), 1) << line;
+        }
         if (phase == "plan" || phase == "write") {
             EXPECT_EQ(j["unit"], "features") << line;
             EXPECT_EQ(j["total"].get<std::int64_t>(), 6) << line;

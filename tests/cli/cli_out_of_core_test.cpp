@@ -2,7 +2,8 @@
 // under --memory-limit 256MiB keeps the process's peak under the limit and writes the bytes of
 // the in-memory run; a run killed (SIGKILL) in three different phases and continued with
 // --resume writes the same bytes; a limit too small for one feature is a clear error that
-// leaves nothing at OUT; work directories of other runs are refused.
+// leaves nothing at OUT, and the smallest limit it suggests runs through; work directories of
+// other runs are refused; 100 k problems under a limit give the in-memory report.
 #include "cli_support.hpp"
 
 #include <gtest/gtest.h>
@@ -139,6 +140,15 @@ TEST_F(OutOfCore, LimitTooSmallForOneFeatureIsAClearErrorAndLeavesNothing)
     EXPECT_NE(r.err.find("kept: add --resume to continue it"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(out));
     EXPECT_TRUE(fs::exists(m_dir.path(".dense_out.gpkg.trisnap-work"))) << "the read phase's work is kept for --resume";
+    // The limit it suggests is enough for a fresh run: it plans and spools (where a limit is
+    // refused) and starts snapping, where it is stopped (snapping this ring takes minutes).
+    const std::string marker = "the smallest limit that would work is about ";
+    const long long mib = std::stoll(r.err.substr(r.err.find(marker) + marker.size()));
+    const RunOutput fresh = run_trisnap_killed_when(
+        m_dir, {"snap", in, m_dir.path("dense_fresh.gpkg"), "--tolerance", "1", "--memory-limit", std::to_string(mib) + "MiB",
+                "--json-progress"},
+        [](const std::string& line) { return line.find("\"phase\":\"snap\"") != std::string::npos; });
+    EXPECT_EQ(fresh.code, 137) << "a fresh run at the suggested " << mib << " MiB did not reach the snap phase: " << fresh.err;
 }
 
 TEST_F(OutOfCore, WorkDirectoriesOfOtherRunsAreRefused)
@@ -161,6 +171,80 @@ TEST_F(OutOfCore, WorkDirectoriesOfOtherRunsAreRefused)
     r = run_trisnap(m_dir, {"snap", in, out, "--tolerance", "0.1", "--work-dir", work2, "--resume"});
     expect_error(r, 2, "differs in input");
     EXPECT_FALSE(fs::exists(out));
+}
+
+// "The smallest limit that would work" is the limit a fresh run needs, not the one that would
+// have been enough with the margin of the limit tried (the margin grows with the limit): the
+// same command with the suggested limit runs through, and one with three quarters of it is
+// refused again.
+TEST(OutOfCoreLimits, TheSuggestedLimitIsEnoughForAFreshRun)
+{
+    const std::string andorra = data_dir() + "/snapoly_andorra/andorra.gpkg";
+    if (!exists(andorra)) {
+        GTEST_SKIP() << "data set absent: " << andorra;
+    }
+    TempDir dir;
+    auto run_at = [&](const std::string& limit, const std::string& name) {
+        return run_trisnap(dir, {"snap", andorra, dir.path(name), "--tolerance", "1e-6", "--memory-limit", limit,
+                                 "--threads", "2", "-q"});
+    };
+    const RunOutput small = run_at("32MiB", "small.gpkg");
+    expect_error(small, 2, "--memory-limit 32 MiB is too small");
+    const std::string marker = "the smallest limit that would work is about ";
+    const std::size_t at = small.err.find(marker);
+    ASSERT_NE(at, std::string::npos) << small.err;
+    const long long mib = std::stoll(small.err.substr(at + marker.size()));
+    EXPECT_NE(small.err.find(std::to_string(mib) + " MiB", at), std::string::npos) << small.err;
+    ASSERT_GT(mib, 32);
+    const RunOutput suggested = run_at(std::to_string(mib) + "MiB", "suggested.gpkg");
+    EXPECT_EQ(suggested.code, 0) << "a fresh run at the suggested " << mib << " MiB failed: " << suggested.err;
+    EXPECT_TRUE(exists(dir.path("suggested.gpkg")));
+    const RunOutput less = run_at(std::to_string(mib * 3 / 4) + "MiB", "less.gpkg");
+    EXPECT_EQ(less.code, 2) << "three quarters of the suggestion ran too: it is not the smallest";
+}
+
+// A layer whose every feature has a problem (a repeated vertex: 102), 100 k of them: under a
+// limit they go to sorted runs in the work directory and come back one at a time, so the report's
+// problem list and the problems layer are those of the in-memory run, byte for byte.
+TEST(OutOfCoreProblems, ManyProblemsUnderALimitGiveTheInMemoryReportAndLayer)
+{
+    TempDir dir;
+    std::vector<FixtureFeature> features;
+    const int n = 100000;
+    for (int k = 0; k < n; ++k) {
+        const int x = (k % 320) * 3;
+        const int y = (k / 320) * 3;
+        char wkt[160];
+        std::snprintf(wkt, sizeof wkt, "POLYGON((%d %d,%d %d,%d %d,%d %d,%d %d,%d %d))", x, y, x + 1, y, x + 1, y, x + 1,
+                      y + 1, x, y + 1, x, y);
+        features.push_back({wkt, {{"id", std::to_string(k)}}});
+    }
+    const std::string in = dir.path("repeated.gpkg");
+    write_fixture(in, "GPKG", "squares", 3857, wkbPolygon, features);
+    auto run = [&](const std::string& name, std::vector<std::string> extra) {
+        std::vector<std::string> args{"snap", in, dir.path(name + ".gpkg"), "--tolerance", "0.01", "--report",
+                                      dir.path(name + ".json"), "--problems-layer", dir.path(name + ".geojson")};
+        args.insert(args.end(), extra.begin(), extra.end());
+        return run_trisnap(dir, args);
+    };
+    const RunOutput memory = run("memory", {"-q"});
+    ASSERT_EQ(memory.code, 0) << memory.err;
+    const RunOutput limited = run("limited", {"--memory-limit", "256MiB", "-v"}); // 8 MiB of problems at once
+    ASSERT_EQ(limited.code, 0) << limited.err;
+    const std::string marker = "problems: " + std::to_string(n) + ", in ";
+    const std::size_t at = limited.err.find(marker);
+    ASSERT_NE(at, std::string::npos) << limited.err;
+    EXPECT_GE(std::stoi(limited.err.substr(at + marker.size())), 2) << "the problems did not go to the work directory";
+    const nlohmann::json a = read_json(dir.path("memory.json"));
+    const nlohmann::json b = read_json(dir.path("limited.json"));
+    EXPECT_EQ(b["memory"]["mode"], "out_of_core");
+    ASSERT_EQ(a["problems"].size(), static_cast<std::size_t>(n));
+    EXPECT_EQ(a["problems_by_code"], b["problems_by_code"]);
+    EXPECT_EQ(a["counts"], b["counts"]);
+    // The problem list as text, from "problems_by_code" to the end: the same bytes.
+    auto tail = [](const std::string& text) { return text.substr(text.rfind("\"problems_by_code\"")); };
+    EXPECT_TRUE(tail(file_bytes(dir.path("memory.json"))) == tail(file_bytes(dir.path("limited.json"))));
+    EXPECT_TRUE(file_bytes(dir.path("memory.geojson")) == file_bytes(dir.path("limited.geojson")));
 }
 
 TEST(OutOfCoreOptions, MemoryLimitIsReadFromTheConfigAndChecked)

@@ -1,5 +1,6 @@
 // Never lose data: the input is never written, OUT and the report appear whole or not at all,
-// a full disk is an error (exit 1, nothing at OUT), and nothing temporary is left behind.
+// a full disk is an error (exit 1, nothing at OUT; a work directory's disk is checked before and
+// after the read, and named when it fills up), and nothing temporary is left behind.
 #include "cli_support.hpp"
 
 #include <gtest/gtest.h>
@@ -188,6 +189,71 @@ TEST_P(CliDiskFull, LeavesNothingAtOutAndExits1)
 
 INSTANTIATE_TEST_SUITE_P(Formats, CliDiskFull,
                          ::testing::Values("geojson", "geojsons", "gml", "kml", "gpkg", "shp", "fgb"));
+
+// The work directory's disk. Too small for the input: refused before the read spools anything
+// (the check after the read would have left the read's work for --resume); too small for what the
+// read found: refused after it, the work kept; filling up while spooling (RLIMIT_FSIZE makes
+// writes past 64 KiB fail as a full disk does): the same kind of line, naming the work directory.
+// A small disk is pretended with TRISNAP_TEST_FREE_DISK (mounting one needs root).
+class CliWorkDisk : public ::testing::Test {
+protected:
+    void SetUp() override
+    {
+        in = dir.path("many.gpkg");
+        write_fixture(in, "GPKG", "parcels", 3857, wkbPolygon, many_polygons(1000));
+    }
+    void TearDown() override { ::unsetenv("TRISNAP_TEST_FREE_DISK"); }
+    std::vector<std::string> args(const std::string& out) const
+    {
+        return {"snap", in, out, "--tolerance", "0.01", "--work-dir", work, "-q"};
+    }
+    TempDir dir;
+    std::string in;
+    std::string work = dir.path("work");
+};
+
+TEST_F(CliWorkDisk, TooSmallForTheInputIsRefusedBeforeTheRead)
+{
+    ::setenv("TRISNAP_TEST_FREE_DISK", "1048576", 1);
+    const std::string out = dir.path("out.gpkg");
+    RunOutput r = run_trisnap(dir, args(out));
+    expect_error(r, 1, work + ": not enough free disk for the work files");
+    EXPECT_NE(r.err.find("1 MiB are free"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("--resume"), std::string::npos) << "the read ran: " << r.err;
+    EXPECT_FALSE(fs::exists(work)) << "the work directory holds a read that should not have run";
+    EXPECT_FALSE(exists(out));
+    std::vector<std::string> progress = args(out);
+    progress.back() = "--json-progress";
+    r = run_trisnap(dir, progress);
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err.find("\"phase\":\"plan\""), std::string::npos) << "the read started: " << r.err;
+}
+
+TEST_F(CliWorkDisk, TooSmallForWhatTheReadFoundIsRefusedAfterIt)
+{
+    // Above the floor from the input's size (features.bin at 0.15 of it, three times, and
+    // 64 MiB), below the need after the read (features.bin twice, which for these 24-gons is
+    // larger than the GeoPackage, and 64 MiB).
+    const auto free = (64ull << 20) + fs::file_size(in);
+    ::setenv("TRISNAP_TEST_FREE_DISK", std::to_string(free).c_str(), 1);
+    const std::string out = dir.path("out.gpkg");
+    const RunOutput r = run_trisnap(dir, args(out));
+    expect_error(r, 1, work + ": not enough free disk for the work files");
+    EXPECT_NE(r.err.find("more are needed for 1000 features"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("kept: add --resume"), std::string::npos) << r.err;
+    EXPECT_FALSE(exists(out));
+}
+
+TEST_F(CliWorkDisk, FillingUpWhileSpoolingNamesTheWorkDirectory)
+{
+    const std::string out = dir.path("out.gpkg");
+    const RunOutput r = run_trisnap_limited(dir, args(out), Limits{64 * 1024, 0});
+    expect_error(r, 1, "work directory " + work + ": no room left for the work files (");
+    EXPECT_NE(r.err.find("File too large"), std::string::npos) << "the limit is what failed: " << r.err;
+    EXPECT_NE(r.err.find("give --work-dir on a larger disk"), std::string::npos) << r.err;
+    EXPECT_FALSE(exists(out));
+    EXPECT_EQ(leftovers(dir.path("")), std::vector<std::string>{});
+}
 
 TEST_F(CliSafety, ReportThatIsADirectoryOrADeviceIsRefusedBeforeAnythingIsWritten)
 {

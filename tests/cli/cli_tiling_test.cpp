@@ -45,6 +45,50 @@ TEST(CliTiling, ThreadsTilesAndNoTilesGiveIdenticalBytes)
     }
 }
 
+// The stitch phase reports tiles checked of the tiles there are, in --json-progress as on the bar:
+// a total from its start (the report's tiles when no seam merged any), an ETA once some are done,
+// and every tile done at the end.
+TEST(CliTiling, StitchProgressCountsTheTiles)
+{
+    if (!exists(andorra())) GTEST_SKIP() << "data set absent: " << andorra();
+    TempDir dir;
+    const std::string out = dir.path("out.gpkg");
+    const RunOutput r = run_trisnap(dir, {"snap", andorra(), out, "--tolerance", "1e-6", "--tile-size", "0.01", "-q",
+                                          "--json-progress", "--report", out + ".json"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto report = read_json(out + ".json");
+    const auto tiles = report["tiling"]["tiles"].get<std::int64_t>();
+    ASSERT_GT(tiles, 4);
+    std::vector<nlohmann::json> lines;
+    for (const std::string& line : r.err_lines()) {
+        const nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
+        ASSERT_FALSE(j.is_discarded()) << "not JSON: " << line;
+        if (j["phase"] == "stitch") {
+            lines.push_back(j);
+        }
+    }
+    ASSERT_GE(lines.size(), 2u) << "no start and end line for the stitch";
+    std::int64_t last = 0;
+    for (const nlohmann::json& j : lines) {
+        EXPECT_EQ(j["unit"], "tiles") << j;
+        const auto done = j["done"].get<std::int64_t>();
+        const auto total = j["total"].get<std::int64_t>();
+        EXPECT_GE(total, tiles) << j;
+        EXPECT_GE(done, last) << j;
+        EXPECT_LE(done, total) << j;
+        if (done > 0 && !j["finished"].get<bool>()) {
+            EXPECT_FALSE(j["eta_s"].is_null()) << "no ETA with tiles done: " << j;
+        }
+        last = done;
+    }
+    EXPECT_EQ(lines.front()["done"], 0);
+    if (report["tiling"]["seam_merges"].get<int>() == 0) {
+        EXPECT_EQ(lines.front()["total"].get<std::int64_t>(), tiles);
+    }
+    EXPECT_TRUE(lines.back()["finished"].get<bool>());
+    EXPECT_EQ(lines.back()["done"], lines.back()["total"]);
+}
+
 TEST(CliTiling, BadTilingOptionsNameTheOption)
 {
     TempDir dir;

@@ -1,7 +1,9 @@
-// exit_status(): the exit code and line for an escaping exception; out of memory wherever nested.
+// exit_status(): the exit code and line for an escaping exception; out of memory wherever nested;
+// a full work disk names the work directory.
 #include "app/exit_status.hpp"
 #include "config/errors.hpp"
 #include "io/io_error.hpp"
+#include "tiling/work_store.hpp"
 
 #include <gtest/gtest.h>
 
@@ -52,6 +54,16 @@ TEST(ExitStatus, OutOfMemoryGetsTheHintAlsoWhenNested)
     EXPECT_EQ(nested.code, 1);
     EXPECT_EQ(nested.message.rfind("out of memory;", 0), 0u) << nested.message;
     EXPECT_NE(nested.message.find("(snapping failed)"), std::string::npos) << nested.message;
+}
+
+TEST(ExitStatus, FullWorkDiskNamesTheWorkDirectoryInOneLine)
+{
+    const ExitStatus s = status_of([] {
+        throw tiling::disk_full_error("/data/w/features.bin.tmp-h-7: cannot write: No space left on device", "/data/w");
+    });
+    EXPECT_EQ(s.code, 1);
+    EXPECT_EQ(s.message, "work directory /data/w: no room left for the work files (features.bin.tmp-h-7: cannot write: "
+                         "No space left on device); free some space there or give --work-dir on a larger disk");
 }
 
 TEST(ExitStatus, NestedMessagesAreKept)

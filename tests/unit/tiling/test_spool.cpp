@@ -1,14 +1,12 @@
-// The work directory: records round-trip bit for bit (z, NaN payloads, negative zeros), files
-// appear only when committed, damaged files are refused; the vertex sample does not depend on
-// input order; a plan survives save/load and leaf splits; a tiled run on a directory store with
-// a small memory pool (tiles split to fit) and interrupted between tiles gives the untiled
-// output.
+// The work directory (its records: test_records.cpp): files appear only when committed, damaged
+// files are refused; the vertex sample does not depend on input order; a plan survives
+// save/load and leaf splits; a tiled run on a directory store with a small memory pool (tiles
+// split to fit) and interrupted between tiles gives the untiled output.
 #include "generators.hpp"
 #include "tiled_check.hpp"
 
 #include "stitch/spool.hpp"
 #include "stitch/tiled_snap.hpp"
-#include "tiling/records.hpp"
 #include "tiling/sample.hpp"
 #include "tiling/work_store.hpp"
 #include "core/wkt.hpp"
@@ -16,114 +14,17 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <filesystem>
-#include <limits>
+#include <functional>
 #include <random>
+
+#include <unistd.h>
 
 namespace trisnap {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::uint64_t bits(double v) { return std::bit_cast<std::uint64_t>(v); }
-
-void expect_same_bits(const Geometry& a, const Geometry& b)
-{
-    ASSERT_EQ(a.type, b.type);
-    ASSERT_EQ(a.has_z, b.has_z);
-    auto same = [&](const Path& p, const Path& q) {
-        ASSERT_EQ(p.size(), q.size());
-        for (std::size_t i = 0; i < p.size(); ++i) {
-            EXPECT_EQ(bits(p[i].x), bits(q[i].x));
-            EXPECT_EQ(bits(p[i].y), bits(q[i].y));
-            if (a.has_z) {
-                EXPECT_EQ(bits(p[i].z), bits(q[i].z));
-            } else {
-                EXPECT_TRUE(std::isnan(q[i].z));
-            }
-        }
-    };
-    ASSERT_EQ(a.polygons.size(), b.polygons.size());
-    for (std::size_t p = 0; p < a.polygons.size(); ++p) {
-        ASSERT_EQ(a.polygons[p].rings.size(), b.polygons[p].rings.size());
-        for (std::size_t r = 0; r < a.polygons[p].rings.size(); ++r) {
-            same(a.polygons[p].rings[r], b.polygons[p].rings[r]);
-        }
-    }
-    ASSERT_EQ(a.lines.size(), b.lines.size());
-    for (std::size_t l = 0; l < a.lines.size(); ++l) {
-        same(a.lines[l], b.lines[l]);
-    }
-}
-
-Geometry awkward_geometry(bool polygon)
-{
-    Geometry g;
-    g.has_z = true;
-    const double payload_nan = std::bit_cast<double>(0x7ff8dead00000001ull);
-    Path p{{-0.0, 1e-300, payload_nan}, {std::nextafter(1.0, 2.0), -1e308, -0.0}, {3, 4, 5e-324}, {-0.0, 1e-300, 1}};
-    if (polygon) {
-        g.type = Geometry::Type::MultiPolygon;
-        g.polygons = {Polygon{{p, p}}, Polygon{{p}}};
-    } else {
-        g.type = Geometry::Type::MultiLineString;
-        g.lines = {p, Path{{1, 2, 3}, {4, 5, 6}}};
-    }
-    return g;
-}
-
-TEST(Records, GeometriesAndTileFeaturesRoundTripBitForBit)
-{
-    for (bool polygon : {true, false}) {
-        tiling::TileFeature f{42, Feature{-7, awkward_geometry(polygon)}, false};
-        std::string bytes;
-        tiling::ByteWriter w(bytes);
-        tiling::put_tile_feature(w, f);
-        tiling::ByteReader r(bytes, "test");
-        const tiling::TileFeature back = tiling::get_tile_feature(r);
-        EXPECT_TRUE(r.done());
-        EXPECT_EQ(back.rank, 42u);
-        EXPECT_EQ(back.feature.id, -7);
-        EXPECT_FALSE(back.intact);
-        expect_same_bits(f.feature.geometry, back.feature.geometry);
-        // Every truncation is refused, never read past the end.
-        for (std::size_t cut = 0; cut < bytes.size(); cut += 7) {
-            tiling::ByteReader partial(std::string_view(bytes).substr(0, cut), "test");
-            EXPECT_THROW(tiling::get_tile_feature(partial), tiling::record_error) << cut;
-        }
-    }
-}
-
-TEST(Records, CleanFeaturesRoundTripWithAndWithoutZ)
-{
-    std::vector<Problem> problems;
-    const Feature input{9, awkward_geometry(true)};
-    const detail::CleanFeature cf = detail::clean_feature(input, 3, 1e-3, problems);
-    for (bool has_z : {true, false}) {
-        std::string bytes;
-        tiling::ByteWriter w(bytes);
-        tiling::put_clean_feature(w, cf, has_z);
-        tiling::ByteReader r(bytes, "test");
-        bool back_z = !has_z;
-        const detail::CleanFeature back = tiling::get_clean_feature(r, back_z);
-        EXPECT_EQ(back_z, has_z);
-        EXPECT_EQ(back.index, 3u);
-        EXPECT_EQ(back.id, 9);
-        EXPECT_EQ(back.shells, cf.shells);
-        EXPECT_EQ(back.holes, cf.holes);
-        ASSERT_EQ(back.rings.size(), cf.rings.size());
-        for (std::size_t k = 0; k < cf.rings.size(); ++k) {
-            ASSERT_EQ(back.rings[k].points.size(), cf.rings[k].points.size());
-            EXPECT_EQ(back.rings[k].hole, cf.rings[k].hole);
-            for (std::size_t i = 0; i < cf.rings[k].points.size(); ++i) {
-                EXPECT_EQ(bits(back.rings[k].points[i].x), bits(cf.rings[k].points[i].x));
-                EXPECT_EQ(has_z ? bits(back.rings[k].points[i].z) : 0, has_z ? bits(cf.rings[k].points[i].z) : 0);
-            }
-        }
-    }
-}
 
 class StoreTest : public ::testing::TestWithParam<bool> {
 protected:
@@ -209,6 +110,46 @@ TEST_P(StoreTest, RecordsStreamAndSeekAndRefuseTruncation)
 
 INSTANTIATE_TEST_SUITE_P(Stores, StoreTest, ::testing::Values(false, true),
                          [](const auto& info) { return info.param ? std::string("Directory") : std::string("Memory"); });
+
+// A full disk, made with /dev/full (every write fails with ENOSPC) under the names the store
+// writes through: a committed file's temporary name, and an appended file's own name.
+TEST(DirectoryStore, FullDiskIsADiskFullErrorNamingTheDirectory)
+{
+    if (!fs::exists("/dev/full")) {
+        GTEST_SKIP() << "no /dev/full";
+    }
+    const fs::path dir = fs::temp_directory_path() / ("trisnap-full-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    auto store = tiling::make_directory_store(dir.string());
+    char host[256] = {};
+    ::gethostname(host, sizeof host - 1);
+    fs::create_symlink("/dev/full", dir / ("features.bin.tmp-" + std::string(host) + "-" + std::to_string(::getpid())));
+    fs::create_symlink("/dev/full", dir / "bucket-0");
+    auto expect_full = [&](const std::function<void()>& write) {
+        try {
+            write();
+            ADD_FAILURE() << "no error";
+        } catch (const tiling::disk_full_error& e) {
+            EXPECT_EQ(e.directory(), dir.string());
+            EXPECT_NE(std::string(e.what()).find("No space left on device"), std::string::npos) << e.what();
+        }
+    };
+    expect_full([&] {
+        auto f = store->create("features.bin");
+        f->write(std::string(3 << 20, 'x')); // more than the buffer: written at once
+        f->commit();
+    });
+    expect_full([&] { store->append("bucket-0", "bytes"); });
+    // Another failure stays a plain work_error.
+    try {
+        store->open("missing");
+        ADD_FAILURE() << "no error";
+    } catch (const tiling::disk_full_error&) {
+        ADD_FAILURE() << "a missing file is not a full disk";
+    } catch (const tiling::work_error&) {
+    }
+    fs::remove_all(dir);
+}
 
 TEST(VertexSample, DoesNotDependOnInputOrderAndKeepsEverythingUnderItsCap)
 {
@@ -348,6 +289,42 @@ TEST(TiledRun, SmallPoolSplitsTilesAndAResumedRunEqualsUntiled)
     }
     EXPECT_EQ(n, input.size());
     fs::remove_all(dir);
+}
+
+// The stitch phase counts tiles: it starts at 0 of the live tiles, never goes back, and ends with
+// every tile checked (done == total, the total the phase started with when no seam disagreed).
+TEST(TiledRun, StitchReportsTilesCheckedOfARealTotal)
+{
+    const double t = 0.01;
+    const auto input = perturbed_grid_coverage(16, 16, 1.0, 0.2, 9, 1, 0.004);
+    auto store = tiling::make_memory_store();
+    stitch::FeatureSpool spool(*store, t, 100000, 1 << 10);
+    std::vector<Problem> problems;
+    for (std::size_t i = 0; i < input.size(); ++i) {
+        spool.add(i, input[i].id, input[i].geometry, problems);
+    }
+    const stitch::SpoolMeta meta = spool.finish();
+    stitch::TilingOptions tiling;
+    tiling.plan.tile_size = 4.0;
+    tiling.threads = 2;
+    stitch::ScheduleOptions schedule;
+    schedule.threads = 2;
+    stitch::TiledRun run(*store, options_at(t), tiling, schedule);
+    run.plan(meta);
+    run.snap();
+    const std::uint64_t live = run.groups().live(run.layout()).size();
+    ASSERT_GT(live, 4u);
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> calls;
+    run.stitch([&](std::uint64_t done, std::uint64_t total) { calls.emplace_back(done, total); });
+    ASSERT_EQ(run.stats().seam_merges, 0u) << "the layer was meant to stitch in one round";
+    ASSERT_GE(calls.size(), live) << "fewer reports than tiles";
+    EXPECT_EQ(calls.front(), std::make_pair(std::uint64_t{0}, live));
+    for (std::size_t i = 1; i < calls.size(); ++i) {
+        EXPECT_GE(calls[i].first, calls[i - 1].first) << "call " << i << " went back";
+        EXPECT_LE(calls[i].first, calls[i].second) << "call " << i;
+        EXPECT_EQ(calls[i].second, live) << "call " << i;
+    }
+    EXPECT_EQ(calls.back(), std::make_pair(live, live));
 }
 
 // One tile (as with --no-tiles): the bar moves while the engine works, and Ctrl-C stops it inside

@@ -1,0 +1,141 @@
+// The work directory's records round-trip bit for bit: geometries and tile features, cleaned
+// features (features.bin: x, y and z, NaN payloads and negative zeros, several rings, parts and
+// lines), read back in order and by rank. (A tile's result files: test_tile_result.cpp.)
+#include "record_checks.hpp"
+#include "snap_harness.hpp"
+
+#include "stitch/spool.hpp"
+#include "tiling/records.hpp"
+#include "tiling/work_store.hpp"
+
+#include <gtest/gtest.h>
+
+namespace trisnap {
+namespace {
+
+using namespace test_records;
+
+TEST(Records, GeometriesAndTileFeaturesRoundTripBitForBit)
+{
+    for (bool polygon : {true, false}) {
+        tiling::TileFeature f{42, Feature{-7, awkward_geometry(polygon)}, false};
+        std::string bytes;
+        const tiling::TileFeature back = round_trip(f, tiling::put_tile_feature, tiling::get_tile_feature, &bytes);
+        EXPECT_EQ(back.rank, 42u);
+        EXPECT_EQ(back.feature.id, -7);
+        EXPECT_FALSE(back.intact);
+        EXPECT_EQ(same_geometry(f.feature.geometry, back.feature.geometry), polygon ? 15u : 7u);
+        // Every truncation is refused, never read past the end.
+        for (std::size_t cut = 0; cut < bytes.size(); cut += 7) {
+            tiling::ByteReader partial(std::string_view(bytes).substr(0, cut), "test");
+            EXPECT_THROW(tiling::get_tile_feature(partial), tiling::record_error) << cut;
+        }
+    }
+}
+
+// A cleaned feature by hand (cleaning would reject the extreme values, and the encoding must
+// keep whatever it is given): two polygons, one with a hole, and a line feature of three lines.
+detail::CleanFeature awkward_clean_feature(bool polygonal)
+{
+    detail::CleanFeature f;
+    f.index = 3;
+    f.id = -9;
+    f.polygonal = polygonal;
+    if (polygonal) {
+        f.rings = {{awkward_path(0), 0, false}, {awkward_path(1), 0, true}, {awkward_path(2), 1, false}};
+        f.shells = 2;
+        f.holes = 1;
+    } else {
+        f.lines = {awkward_path(0), awkward_path(3), {{1, 2, 3}, {4, 5, 6}}};
+    }
+    return f;
+}
+
+std::size_t same_clean_feature(const detail::CleanFeature& a, const detail::CleanFeature& b, bool has_z)
+{
+    EXPECT_EQ(a.index, b.index);
+    EXPECT_EQ(a.id, b.id);
+    EXPECT_EQ(a.polygonal, b.polygonal);
+    EXPECT_EQ(a.rejected, b.rejected);
+    EXPECT_EQ(a.shells, b.shells);
+    EXPECT_EQ(a.holes, b.holes);
+    std::size_t compared = 0;
+    EXPECT_EQ(a.rings.size(), b.rings.size());
+    for (std::size_t k = 0; k < std::min(a.rings.size(), b.rings.size()); ++k) {
+        EXPECT_EQ(a.rings[k].hole, b.rings[k].hole) << "ring " << k;
+        EXPECT_EQ(a.rings[k].polygon, b.rings[k].polygon) << "ring " << k;
+        compared += same_points(a.rings[k].points, b.rings[k].points, has_z);
+    }
+    EXPECT_EQ(a.lines.size(), b.lines.size());
+    for (std::size_t k = 0; k < std::min(a.lines.size(), b.lines.size()); ++k) {
+        compared += same_points(a.lines[k], b.lines[k], has_z);
+    }
+    return compared;
+}
+
+TEST(Records, CleanFeaturesRoundTripWithAndWithoutZ)
+{
+    for (bool polygonal : {true, false}) {
+        const detail::CleanFeature cf = awkward_clean_feature(polygonal);
+        for (bool has_z : {true, false}) {
+            bool back_z = !has_z;
+            const detail::CleanFeature back = round_trip(
+                cf, [&](tiling::ByteWriter& w, const detail::CleanFeature& f) { tiling::put_clean_feature(w, f, has_z); },
+                [&](tiling::ByteReader& r) { return tiling::get_clean_feature(r, back_z); });
+            EXPECT_EQ(back_z, has_z);
+            EXPECT_EQ(same_clean_feature(cf, back, has_z), polygonal ? 15u : 12u) << "polygonal " << polygonal;
+        }
+    }
+}
+
+// The path the run takes: a feature cleaned and spooled (features.bin), then read back in order
+// and by rank; several parts, a hole, Z with a NaN payload and negative zeros.
+TEST(Records, SpooledFeaturesReadBackAsCleaned)
+{
+    const double t = 1e-3;
+    Geometry g;
+    g.type = Geometry::Type::MultiPolygon;
+    g.has_z = true;
+    g.polygons = {Polygon{{{{0, 0, -0.0}, {10, 0, k_payload_nan}, {10, 10, 1}, {0, 10, 2}, {0, 0, -0.0}},
+                           {{2, 2, 3}, {2, 4, 4}, {4, 4, 5e-324}, {4, 2, 6}, {2, 2, 3}}}},
+                  Polygon{{{{-0.0, 20, 7}, {5.5, 20, 8}, {5.5, 25.25, 9}, {-0.0, 20, 7}}}}};
+    Geometry lines;
+    lines.type = Geometry::Type::MultiLineString;
+    lines.has_z = false;
+    lines.lines = {{{0.1, 0.2}, {0.3, -0.0}}, {{std::nextafter(1.0, 2.0), 1}, {2, 2}, {3, 1}}};
+    const std::vector<Feature> input{{5, g}, {6, lines}};
+    auto store = tiling::make_memory_store();
+    std::vector<detail::CleanFeature> cleaned;
+    {
+        stitch::FeatureSpool spool(*store, t, 1000, 64);
+        for (std::size_t i = 0; i < input.size(); ++i) {
+            std::vector<Problem> problems;
+            cleaned.push_back(detail::clean_feature(input[i], i, t, problems));
+            ASSERT_FALSE(cleaned.back().rejected) << problem_lines(problems);
+            spool.add(i, input[i].id, input[i].geometry, problems);
+        }
+        spool.finish();
+    }
+    ASSERT_EQ(cleaned[0].rings.size(), 3u);
+    ASSERT_EQ(cleaned[1].lines.size(), 2u);
+    stitch::SpooledFeatures in_order(*store);
+    stitch::FeatureLookup by_rank(*store);
+    detail::CleanFeature back;
+    bool has_z = false;
+    std::size_t compared = 0;
+    for (std::size_t i = 0; i < input.size(); ++i) {
+        ASSERT_TRUE(in_order.next(back, has_z));
+        EXPECT_EQ(has_z, input[i].geometry.has_z);
+        compared += same_clean_feature(cleaned[i], back, has_z);
+    }
+    EXPECT_FALSE(in_order.next(back, has_z));
+    for (std::size_t i = input.size(); i-- > 0;) { // by rank, backwards
+        const detail::CleanFeature at = by_rank.at(i, has_z);
+        EXPECT_EQ(has_z, input[i].geometry.has_z);
+        compared += same_clean_feature(cleaned[i], at, has_z);
+    }
+    EXPECT_EQ(compared, 2u * (4 + 4 + 3 + 2 + 3));
+}
+
+} // namespace
+} // namespace trisnap

@@ -12,6 +12,7 @@
 // Accounting invariant: input == written + rejected + dropped + unwritable; every feature not
 // written has at least one problem carrying its input FID.
 #include "app/budget.hpp"
+#include "app/interrupt.hpp"
 #include "app/plan.hpp"
 #include "app/progress.hpp"
 #include "app/work_dir.hpp"
@@ -78,17 +79,22 @@ std::vector<bool> renumbered_layers(const RunResult& result);
 
 /// Runs the plan. Throws io_error for I/O failures and an empty selection, argument_error when
 /// the memory limit is too small (naming the feature or tile and the smallest limit that works).
-RunResult run_pipeline(Plan& plan, WorkDir& work, const RunBudget& budget, Progress& progress);
+RunResult run_pipeline(Plan& plan, WorkDir& work, const RunBudget& budget, Progress& progress, InterruptGuard& interrupt);
 
 /// Files added to OUT's commit (the report) once the run is done, before they all go into place.
 using StageOutputs = std::function<void(CommitGroup&, const Plan&, const RunResult&)>;
 
 /// A snap run as the CLI makes it: the budget, the work directory (continued with --resume),
 /// the plan (opens the input; `plan` receives it), the pipeline, then OUT and what `stage`
-/// adds renamed into place together; the work directory is removed after that. `seconds_open`
-/// of the result is the plan's time.
-RunResult snap_run(const SnapArgs& args, const Config& config, Progress& progress, Plan& plan,
+/// adds renamed into place together (commit_outputs); the work directory is removed after
+/// that. `seconds_open` of the result is the plan's time. `interrupt` is the command's guard.
+RunResult snap_run(const SnapArgs& args, const Config& config, Progress& progress, Plan& plan, InterruptGuard& interrupt,
                    const StageOutputs& stage = {});
+
+/// The end of a run that writes files: a last check for a signal (after the report was
+/// staged, and again once the targets are checked, before any is touched), the renames, and
+/// from then on the run is complete (a signal no longer stops it).
+void commit_outputs(CommitGroup& outputs, InterruptGuard& interrupt);
 
 /// The manifest of a run for its work directory: what must match for --resume.
 std::string run_manifest(const Plan& plan);

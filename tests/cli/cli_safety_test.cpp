@@ -305,3 +305,95 @@ TEST_F(CliSafety, SignalsStopEveryPhaseWithOneLineAndLeaveNothing)
 }
 
 } // namespace trisnap::test
+
+namespace trisnap::test {
+namespace {
+
+// A signal at each moment of the final commit, put there by the test hook TRISNAP_TEST_RAISE
+// (the process raises it on itself at the named point): after the writer closed OUT, after the
+// report was staged, and once the targets are checked just before the rename. Each used to get
+// exit 0 with OUT and the report written: the guard ended with the write phase.
+TEST_F(CliSafety, SignalsDuringTheFinalCommitStopTheRunAndLeaveNothing)
+{
+    const std::string in = fixture();
+    struct Case {
+        const char* point;
+        const char* signal;
+        int code;
+    };
+    for (const Case& c : {Case{"write", "SIGTERM", 1}, Case{"report-staged", "SIGINT", 130},
+                          Case{"before-rename", "SIGTERM", 1}}) {
+        SCOPED_TRACE(c.point);
+        const ScopedEnv hook("TRISNAP_TEST_RAISE", std::string(c.point) + ":" + c.signal);
+        const std::string out = dir.path("out.gpkg");
+        const std::string report = dir.path("out.json");
+        const RunOutput r = run_trisnap(dir, {"snap", in, out, "--tolerance", "0.01", "--report", report});
+        expect_error(r, c.code, std::string("interrupted by ") + c.signal + " while writing; nothing was left at OUT");
+        EXPECT_FALSE(exists(out));
+        EXPECT_FALSE(exists(report));
+        expect_no_leftovers();
+    }
+}
+
+TEST_F(CliSafety, SignalJustBeforeTheRenameLeavesAnOverwrittenOutAsItWas)
+{
+    // A Shapefile OUT with --overwrite: its old files are removed only after the last check.
+    const std::string in = fixture();
+    const std::string out = dir.path("out.shp");
+    ASSERT_EQ(run_trisnap(dir, {"snap", in, out, "--tolerance", "0.01", "-q"}).code, 0);
+    const std::string before = file_bytes(out) + file_bytes(dir.path("out.dbf"));
+    const ScopedEnv hook("TRISNAP_TEST_RAISE", "before-rename:SIGTERM");
+    const RunOutput r = run_trisnap(dir, {"snap", in, out, "--tolerance", "0.02", "--overwrite"});
+    expect_error(r, 1, "interrupted by SIGTERM while writing");
+    EXPECT_EQ(file_bytes(out) + file_bytes(dir.path("out.dbf")), before);
+    expect_no_leftovers();
+}
+
+TEST_F(CliSafety, SignalAfterTheRenameFindsTheRunCompleteAndSaysSo)
+{
+    // Once OUT and the report are in place the run is complete: exit 0, both whole, one warning.
+    // The same once an updated GeoPackage's transaction has committed (nothing takes it back).
+    const std::string in = fixture();
+    const std::string out = dir.path("out.gpkg");
+    const std::string report = dir.path("out.json");
+    {
+        const ScopedEnv hook("TRISNAP_TEST_RAISE", "after-rename:SIGTERM");
+        const RunOutput r = run_trisnap(dir, {"snap", in, out, "--tolerance", "0.01", "--report", report});
+        EXPECT_EQ(r.code, 0) << r.err;
+        EXPECT_EQ(r.err, "trisnap: warning: SIGTERM came after the output was in place: the run finished\n");
+    }
+    EXPECT_EQ(read_layer(out).size(), read_json(report)["counts"]["written"].get<std::size_t>());
+    const ScopedEnv hook("TRISNAP_TEST_RAISE", "write:SIGINT");
+    const RunOutput r = run_trisnap(dir, {"snap", in, out, "--tolerance", "0.01", "-nln", "again", "--update"});
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "trisnap: warning: SIGINT came after the output was in place: the run finished\n");
+    EXPECT_FALSE(read_layer(out, "again").empty());
+    expect_no_leftovers();
+}
+
+TEST_F(CliSafety, SignalsNameThePhaseTheyStopped)
+{
+    // A signal in the spool phase was reported "while snapping" and one in the seam check
+    // "while writing": each was seen only by the next phase's first check.
+    const std::string in = fixture();
+    const std::string out = dir.path("out.gpkg");
+    struct Case {
+        const char* point;
+        const char* signal;
+        int code;
+        const char* activity;
+    };
+    for (const Case& c : {Case{"plan", "SIGTERM", 1, "reading"}, Case{"spool", "SIGTERM", 1, "spooling"},
+                          Case{"snap", "SIGINT", 130, "snapping"}, Case{"stitch", "SIGINT", 130, "stitching"}}) {
+        SCOPED_TRACE(c.point);
+        const ScopedEnv hook("TRISNAP_TEST_RAISE", std::string(c.point) + ":" + c.signal);
+        const RunOutput r = run_trisnap(dir, {"snap", in, out, "--tolerance", "0.01"});
+        expect_error(r, c.code, std::string("interrupted by ") + c.signal + " while " + c.activity +
+                                    "; nothing was left at OUT");
+        EXPECT_FALSE(exists(out));
+        expect_no_leftovers();
+    }
+}
+
+} // namespace
+} // namespace trisnap::test

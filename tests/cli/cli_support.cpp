@@ -146,6 +146,22 @@ RunOutput wait_trisnap(const TempDir& dir, pid_t pid)
     return result;
 }
 
+bool wait_until_stopped(pid_t pid)
+{
+    int status = 0;
+    return ::waitpid(pid, &status, WUNTRACED) == pid && WIFSTOPPED(status);
+}
+
+ScopedEnv::ScopedEnv(const std::string& name, const std::string& value) : m_name(name)
+{
+    ::setenv(name.c_str(), value.c_str(), 1);
+}
+
+ScopedEnv::~ScopedEnv()
+{
+    ::unsetenv(m_name.c_str());
+}
+
 RunOutput run_trisnap_limited(const TempDir& dir, const std::vector<std::string>& args, const Limits& limits)
 {
     return wait_trisnap(dir, spawn_trisnap(dir, args, limits));

@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <fstream>
 #include <sys/wait.h>
-#include <thread>
 #include <unistd.h>
 
 namespace trisnap::test {
@@ -138,29 +137,19 @@ TEST_F(CliSafety, StaleTemporaryDirectoriesOfDeadRunsAreRemoved)
 
 TEST_F(CliSafety, OutCreatedByAnotherProcessDuringTheRunIsNotReplaced)
 {
-    const std::string in = dir.path("many.gpkg");
-    write_fixture(in, "GPKG", "parcels", 3857, wkbPolygon, many_polygons(1500));
+    // The run stops itself (SIGSTOP) once it has checked its targets, just before the rename;
+    // "another process" creates OUT then. It used to be timed by polling for the temporary
+    // directory, and skipped when the run was faster than the poll.
+    const std::string in = fixture();
     const std::string out = dir.path("out.geojson");
+    const ScopedEnv hook("TRISNAP_TEST_RAISE", "before-rename:SIGSTOP");
     const pid_t pid = spawn_trisnap(dir, {"snap", in, out, "--tolerance", "0.01", "-q"});
-    // Stop the run while its temporary directory exists (it is writing), create OUT, go on.
-    bool stopped = false;
-    for (int i = 0; i < 200000 && !stopped; ++i) {
-        if (!leftovers(dir.path("")).empty()) {
-            stopped = kill(pid, SIGSTOP) == 0;
-        } else {
-            std::this_thread::sleep_for(std::chrono::microseconds(200));
-        }
-    }
-    const bool window_missed = exists(out);
-    if (!window_missed) {
-        std::ofstream(out) << "keep me";
-    }
+    ASSERT_TRUE(wait_until_stopped(pid)) << "the run did not reach its rename";
+    EXPECT_FALSE(exists(out));
+    std::ofstream(out) << "keep me";
     kill(pid, SIGCONT);
     const RunOutput r = wait_trisnap(dir, pid);
-    if (!stopped || window_missed) {
-        GTEST_SKIP() << "the run finished before it could be stopped while writing";
-    }
-    expect_error(r, 2, "already exists");
+    expect_error(r, 2, "already exists (it appeared while this run was writing)");
     EXPECT_EQ(file_bytes(out), "keep me");
     expect_no_leftovers();
 }

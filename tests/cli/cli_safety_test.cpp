@@ -100,6 +100,61 @@ TEST_F(CliSafety, OutThatWouldReplaceAFileOfTheInputShapefileIsRefused)
     expect_no_leftovers();
 }
 
+TEST_F(CliSafety, RenderAndAssessNeverWriteOverTheirInputs)
+{
+    // `render IN -o pic.svg` with pic.svg a link to IN wrote the picture into IN; `assess --json`
+    // the same into SNAPPED. Each output now gets the input protection `snap` has.
+    const std::string in = fixture();
+    const std::string snapped = dir.path("snapped.gpkg");
+    ASSERT_EQ(run_trisnap(dir, {"snap", in, snapped, "--tolerance", "0.01", "-q"}).code, 0);
+    const std::string before = file_bytes(in);
+    const std::string snapped_before = file_bytes(snapped);
+    fs::create_symlink(in, dir.path("soft.svg"));
+    fs::create_hard_link(in, dir.path("hard.png"));
+    fs::create_symlink(snapped, dir.path("snapped.svg"));
+    for (const char* picture : {"soft.svg", "hard.png"}) {
+        const RunOutput r = run_trisnap(dir, {"render", in, "-o", dir.path(picture)});
+        expect_error(r, 2, "-o " + dir.path(picture) + ": is ");
+        EXPECT_NE(r.err.find("a file of the input " + in), std::string::npos) << r.err;
+    }
+    RunOutput r = run_trisnap(dir, {"render", in, snapped, "-o", dir.path("snapped.svg")});
+    expect_error(r, 2, "a file of SNAPPED " + snapped);
+    fs::create_symlink(snapped, dir.path("soft.json"));
+    r = run_trisnap(dir, {"assess", in, snapped, "--tolerance", "0.01", "--json", dir.path("soft.json")});
+    expect_error(r, 2, "--json " + dir.path("soft.json") + ": is ");
+    EXPECT_EQ(file_bytes(in), before);
+    EXPECT_EQ(file_bytes(snapped), snapped_before);
+    // A picture and a JSON file of their own are still written, whole.
+    r = run_trisnap(dir, {"render", in, snapped, "-o", dir.path("pic.png")});
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(file_bytes(dir.path("pic.png")).substr(1, 3), "PNG");
+    r = run_trisnap(dir, {"assess", in, snapped, "--tolerance", "0.01", "--json", dir.path("a.json")});
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(read_json(dir.path("a.json")).is_object());
+    expect_no_leftovers();
+}
+
+TEST_F(CliSafety, ProblemsLayerOrWorkDirectoryNamingTheInputIsRefused)
+{
+    // Already refused before render and assess were: kept as a guard for every file snap writes.
+    const std::string in = fixture();
+    const std::string before = file_bytes(in);
+    fs::create_symlink(in, dir.path("soft.gpkg"));
+    fs::create_hard_link(in, dir.path("hard.gpkg"));
+    for (const char* layer : {"soft.gpkg", "hard.gpkg"}) {
+        const RunOutput r = run_trisnap(dir, {"snap", in, dir.path("out.gpkg"), "--tolerance", "0.01", "--overwrite",
+                                              "--problems-layer", dir.path(layer)});
+        expect_error(r, 2, "is a file of the input");
+    }
+    fs::create_directory_symlink(dir.path(""), dir.path("here"));
+    const RunOutput r = run_trisnap(dir, {"snap", in, dir.path("out.gpkg"), "--tolerance", "0.01", "--memory-limit",
+                                          "1GiB", "--work-dir", dir.path("here")});
+    expect_error(r, 2, "holds files that are not a trisnap run");
+    EXPECT_EQ(file_bytes(in), before);
+    EXPECT_FALSE(exists(dir.path("out.gpkg")));
+    expect_no_leftovers();
+}
+
 TEST_F(CliSafety, FailedLayerOrFieldCreationLeavesNoTemporaryDirectory)
 {
     const std::string in = fixture();

@@ -58,6 +58,18 @@ protected:
     TempDir dir;
 };
 
+TEST(CliSupport, OnlyNotWrittenCodesExcuseAMissingFeature)
+{
+    // Any problem used to excuse a missing feature: a feature that only had repeated points
+    // removed (102) could vanish and the accounting tests still passed.
+    const nlohmann::json report = nlohmann::json::parse(R"({"problems": [
+        {"fid": 1, "code": 102}, {"fid": 2, "code": 201}, {"fid": 3, "code": 105},
+        {"fid": 4, "code": 303}, {"fid": 4, "code": 102}, {"fid": 5, "code": 109}, {"fid": 6, "code": 902}]})");
+    ReadFeature written;
+    written.fid = 6;
+    EXPECT_EQ(missing_but_reported(report, {written}), (std::vector<std::int64_t>{2, 4, 5}));
+}
+
 TEST_F(CliSafety, ReportNamingTheInputUnderAnyNameIsRefused)
 {
     const std::string in = fixture();

@@ -1,5 +1,7 @@
 #include "cli_support.hpp"
 
+#include "problem_codes.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -346,8 +348,12 @@ std::vector<std::int64_t> missing_but_reported(const nlohmann::json& report, con
         present.insert(it != f.fields.end() ? std::stoll(it->second) : f.fid);
     }
     std::set<std::int64_t> reported;
-    for (const auto& p : report["problems"])
-        if (!present.count(p["fid"].get<std::int64_t>())) reported.insert(p["fid"].get<std::int64_t>());
+    for (const auto& p : report["problems"]) {
+        const std::int64_t fid = p["fid"].get<std::int64_t>();
+        if (!present.count(fid) && is_not_written_code(p["code"].get<int>())) {
+            reported.insert(fid);
+        }
+    }
     return {reported.begin(), reported.end()};
 }
 

@@ -120,7 +120,8 @@ std::vector<ReadFeature> read_layer(const std::string& path, const std::string& 
 /// The report file as JSON.
 nlohmann::json read_json(const std::string& path);
 
-/// The FIDs of features reported in `report` that are not in `output` (by FID or orig_fid).
+/// The FIDs of features missing from `output` (by FID or orig_fid) that `report` excuses: only
+/// a problem whose code means "not written" (problem_codes.hpp) excuses a missing feature.
 std::vector<std::int64_t> missing_but_reported(const nlohmann::json& report, const std::vector<ReadFeature>& output);
 
 /// Bytes of a file, for determinism checks.

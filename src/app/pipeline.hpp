@@ -54,6 +54,7 @@ struct RunResult {
     std::size_t written = 0;
     std::size_t rejected = 0;      ///< not given to the engine (NaN/inf coordinates)
     std::size_t dropped = 0;       ///< the engine returned nothing (collapsed, huge coordinates, ...)
+    std::size_t dropped_rejected = 0; ///< of `dropped`: the engine rejected them (109 huge coordinate)
     std::size_t unwritable = 0;    ///< the driver refused them
     std::size_t snapped = 0;       ///< given to the engine
     std::size_t input_vertices = 0;

@@ -11,6 +11,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <limits>
 #include <set>
 
@@ -60,7 +61,8 @@ private:
 class Writer {
 public:
     Writer(Plan& plan, stitch::OutputMerger& merger, LayerWriter& writer, RunResult& result)
-        : m_plan(plan), m_merger(merger), m_writer(writer), m_result(result)
+        : m_plan(plan), m_merger(merger), m_writer(writer), m_result(result),
+          m_rejected(rejected_features(result.problems))
     {
         for (const Problem& p : result.problems) {
             m_reported.emplace(p.layer, p.feature_id);
@@ -76,13 +78,14 @@ public:
 
 private:
     void write(std::uint32_t k, std::int64_t fid, OGRFeature& f, OGRGeometry* geometry);
-    void vanished(std::uint32_t k, const RecordEntry& e);
+    void vanished(std::uint32_t k, const RecordEntry& e, bool rejected);
 
     Plan& m_plan;
     stitch::OutputMerger& m_merger;
     LayerWriter& m_writer;
     RunResult& m_result;
     std::set<std::pair<std::uint32_t, std::int64_t>> m_reported; ///< (layer, FID) with a problem
+    std::set<std::pair<std::uint32_t, std::int64_t>> m_rejected; ///< (layer, FID) the engine rejected (109)
     stitch::OutputItem m_item;
 };
 
@@ -95,10 +98,13 @@ void Writer::write(std::uint32_t k, std::int64_t fid, OGRFeature& f, OGRGeometry
     }
 }
 
-void Writer::vanished(std::uint32_t k, const RecordEntry& e)
+void Writer::vanished(std::uint32_t k, const RecordEntry& e, bool rejected)
 {
     ++m_result.dropped;
     ++m_result.layers[k].dropped;
+    if (rejected) {
+        ++m_result.dropped_rejected;
+    }
     if (!m_reported.count({k, e.fid})) {
         const auto type = static_cast<OGRwkbGeometryType>(e.type);
         m_result.problems.push_back(feature_problem(k, e.fid, type == wkbPolygon || type == wkbMultiPolygon
@@ -122,13 +128,15 @@ void Writer::feature(std::uint32_t k, std::size_t seq, const RecordEntry& e, OGR
     if (!m_merger.next(m_item) || m_item.seq != seq) {
         changed(k, "the stitched features do not line up with the input");
     }
+    const bool rejected = m_rejected.count({k, e.fid}) > 0 ||
+                          std::any_of(m_item.problems.begin(), m_item.problems.end(), rejected_by_engine);
     for (Problem& p : m_item.problems) {
         p.layer = k;
         m_reported.emplace(k, p.feature_id);
         m_result.problems.push_back(std::move(p));
     }
     if (m_item.output.geometry.empty()) {
-        vanished(k, e);
+        vanished(k, e, rejected);
         return;
     }
     f->SetGeometryDirectly(nullptr);
@@ -176,7 +184,8 @@ void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerge
     interrupt.check();
     // Before OUT is committed: nothing goes into place. Features of failed tiles (303) are not
     // collapses: they are reported, and --on-error skip asked for them to be left out.
-    check_collapse(plan, result.dropped - merger.counts().failed, result.input);
+    const std::size_t failed = merger.counts().failed;
+    check_collapse(plan, Drops{result.dropped - failed - result.dropped_rejected, result.dropped_rejected}, result.input);
     writer.commit();
     for (Problem& p : writer.take_problems()) {
         result.problems.push_back(std::move(p)); // values and field names the format changed

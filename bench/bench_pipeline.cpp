@@ -179,7 +179,8 @@ void bm_pipeline(benchmark::State& state, const DataSet& data, const OutputForma
         try {
             Plan plan;
             Progress progress(args.progress, false);
-            const RunResult r = snap_run(args, config, progress, plan);
+            InterruptGuard interrupt;
+            const RunResult r = snap_run(args, config, progress, plan, interrupt);
             totals.add(r, r.seconds_open);
         } catch (const std::exception& e) {
             state.SkipWithError((std::string("pipeline failed: ") + e.what()).c_str());

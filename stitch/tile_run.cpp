@@ -173,11 +173,11 @@ std::uint64_t TileRunner::vertices(std::size_t group) const
     return n;
 }
 
-tiling::TileJobInput TileRunner::gather(std::size_t group, double halo) const
+tiling::TileJobInput TileRunner::gather(std::size_t group, double halo, TileInputMode mode) const
 {
     const std::vector<std::size_t>& leaves = m_groups.leaves[group];
-    if (leaves.size() != 1 || halo != m_layout.halo) {
-        return gather_wide(group, halo);
+    if (leaves.size() != 1 || halo != m_layout.halo || mode == TileInputMode::whole) {
+        return gather_wide(group, halo, mode);
     }
     tiling::TileJobInput in;
     in.features = read_bucket(m_store, leaves[0]);
@@ -189,8 +189,9 @@ tiling::TileJobInput TileRunner::gather(std::size_t group, double halo) const
 // Every feature meeting a box is in the bucket of some leaf whose core meets the box (a leaf's
 // bucket holds everything meeting its core, and more). The reach is grown from the features'
 // own edges (read back from features.bin: a bucket's cut features carry detour edges that
-// must not count), then they are cut to it.
-tiling::TileJobInput TileRunner::gather_wide(std::size_t group, double halo) const
+// must not count), then they are cut to it; or (TileInputMode::whole) given whole: cut to a
+// box that holds every one of them, which leaves them intact.
+tiling::TileJobInput TileRunner::gather_wide(std::size_t group, double halo, TileInputMode mode) const
 {
     const Box core = group_core(m_layout, m_groups, group);
     FeatureLookup lookup(m_store);
@@ -221,8 +222,15 @@ tiling::TileJobInput TileRunner::gather_wide(std::size_t group, double halo) con
     }
     tiling::TileJobInput in;
     in.reach = reach.expanded(halo);
-    const tiling::TileCutter cutter(in.reach, tiling::detour_frame(m_meta.sample.extent, in.reach));
-    for (std::uint64_t rank : features_meeting(in.reach)) {
+    const std::set<std::uint64_t> ranks = features_meeting(in.reach);
+    Box cut_to = in.reach;
+    for (std::uint64_t rank : ranks) {
+        if (mode == TileInputMode::whole) {
+            cut_to.add(box_of(seen.at(rank).first));
+        }
+    }
+    const tiling::TileCutter cutter(cut_to, tiling::detour_frame(m_meta.sample.extent, cut_to));
+    for (std::uint64_t rank : ranks) {
         const auto& [cf, has_z] = seen.at(rank);
         tiling::TileFeature tf;
         if (!cutter.cut(cf, has_z, tf.feature, tf.intact)) {
@@ -288,10 +296,11 @@ void TileRunner::write_files(std::size_t group, const TileReport& report, const 
 namespace {
 
 // Fault injection for the tests of --on-error (an engine that never fails cannot test it):
-// TRISNAP_FAIL_TILES="3,7/1" makes the tile holding plan leaf 3 throw whenever it runs, and the
-// one holding leaf 7 only while it is that leaf alone (so its retry merged with its neighbours
-// goes through). Read on every call: tests set it per run.
-void injected_failure(const std::vector<std::size_t>& leaves)
+// TRISNAP_FAIL_TILES="3,7/1,9/cut" makes the tile holding plan leaf 3 throw whenever it runs,
+// the one holding leaf 7 only while it is that leaf alone (so its retry merged with its
+// neighbours goes through), and the one holding leaf 9 whenever its features are cut (alone or
+// merged: its retry untiled in its region goes through). Read on every call: tests set it per run.
+void injected_failure(const std::vector<std::size_t>& leaves, TileInputMode mode)
 {
     const char* spec = std::getenv("TRISNAP_FAIL_TILES");
     if (spec == nullptr || *spec == '\0') {
@@ -301,14 +310,15 @@ void injected_failure(const std::vector<std::size_t>& leaves)
     std::string item;
     while (std::getline(in, item, ',')) {
         const std::size_t slash = item.find('/');
-        const bool alone_only = slash != std::string::npos;
+        const std::string when = slash == std::string::npos ? "" : item.substr(slash + 1);
         std::size_t leaf = 0;
         try {
             leaf = std::stoull(item.substr(0, slash));
         } catch (const std::exception&) {
             throw std::invalid_argument("TRISNAP_FAIL_TILES: '" + item + "' is not a leaf number");
         }
-        if (std::find(leaves.begin(), leaves.end(), leaf) != leaves.end() && (!alone_only || leaves.size() == 1)) {
+        const bool now = when.empty() || (when == "1" && leaves.size() == 1) || (when == "cut" && mode == TileInputMode::cut);
+        if (now && std::find(leaves.begin(), leaves.end(), leaf) != leaves.end()) {
             throw std::logic_error("injected failure of tile " + std::to_string(leaf) + " (TRISNAP_FAIL_TILES)");
         }
     }
@@ -334,6 +344,7 @@ void TileRunner::fail(std::size_t group, const std::string& reason) const
     }
     std::sort(by_rank.begin(), by_rank.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     report.problems = by_rank.size();
+    const std::string features = describe(in.features);
     std::vector<Piece> pieces;
     for (const auto& [rank, f] : by_rank) {
         Piece piece;
@@ -341,8 +352,8 @@ void TileRunner::fail(std::size_t group, const std::string& reason) const
         Problem p;
         p.feature_id = f->feature.id;
         p.code = ProblemCode::tile_failed;
-        p.message = "tile " + std::to_string(report.id) + " failed alone and merged with its neighbours (" + reason +
-                    "); not written (--on-error skip)";
+        p.message = "tile " + std::to_string(report.id) + " (" + features + ") failed " + reason +
+                    "; not written (--on-error skip)";
         const Geometry& g = f->feature.geometry;
         const Path* first = !g.polygons.empty() && !g.polygons[0].rings.empty() ? &g.polygons[0].rings[0]
                             : !g.lines.empty()                                  ? &g.lines[0]
@@ -355,9 +366,43 @@ void TileRunner::fail(std::size_t group, const std::string& reason) const
     write_files(group, report, pieces, {});
 }
 
-TileReport TileRunner::run(std::size_t group, const SnapProgress& progress) const
+std::string TileRunner::describe_features(std::size_t group) const
 {
-    injected_failure(m_groups.leaves[group]);
+    return describe(gather(group, m_groups.halo[group]).features);
+}
+
+std::string TileRunner::describe(const std::vector<tiling::TileFeature>& features) const
+{
+    constexpr std::size_t k_named = 8;
+    std::vector<std::int64_t> fids;
+    FeatureLookup lookup(m_store);
+    for (const tiling::TileFeature& f : features) {
+        bool has_z = false;
+        fids.push_back(m_meta.fids_unique ? f.feature.id : lookup.at(f.rank, has_z).id);
+    }
+    std::sort(fids.begin(), fids.end());
+    std::string text = std::to_string(fids.size()) + (fids.size() == 1 ? " feature: FID " : " features: FIDs ");
+    for (std::size_t k = 0; k < fids.size() && k < k_named; ++k) {
+        text += (k ? ", " : "") + std::to_string(fids[k]);
+    }
+    if (fids.size() > k_named) {
+        text += " and " + std::to_string(fids.size() - k_named) + " more";
+    }
+    return text;
+}
+
+TileReport TileRunner::run(std::size_t group, const SnapProgress& progress, TileInputMode mode,
+                           std::uint64_t max_vertices) const
+{
+    injected_failure(m_groups.leaves[group], mode);
+    const tiling::Gather gather_input = [&](double h) {
+        tiling::TileJobInput in = gather(group, h, mode);
+        if (mode == TileInputMode::whole && max_vertices > 0 && in.vertices > max_vertices) {
+            throw std::length_error("its features whole hold " + std::to_string(in.vertices) +
+                                    " vertices, more than the memory limit holds in one triangulation");
+        }
+        return in;
+    };
     tiling::TileJob job;
     job.core = group_core(m_layout, m_groups, group);
     job.report_region = group_region(m_layout, m_groups, group);
@@ -365,7 +410,7 @@ TileReport TileRunner::run(std::size_t group, const SnapProgress& progress) cons
     job.max_growth = m_max_growth;
     SnapOptions options = m_options;
     options.progress = progress;
-    const tiling::TileOutcome oc = tiling::run_tile(job, options, [&](double h) { return gather(group, h); });
+    const tiling::TileOutcome oc = tiling::run_tile(job, options, gather_input);
     TileReport report;
     report.id = m_groups.leaves[group].front();
     report.leaves = m_groups.leaves[group].size();

@@ -13,22 +13,34 @@
 
 namespace trisnap::stitch {
 
+/// How a tile's features are given to the engine: cut to its reach box (every run), or whole
+/// (the last retry of a tile that failed: its region snapped as an untiled run sees it, with no
+/// shortcut or detour edge).
+enum class TileInputMode { cut, whole };
+
 class TileRunner {
 public:
     TileRunner(tiling::WorkStore& store, const TileLayout& layout, const Groups& groups, const SpoolMeta& meta,
                const SnapOptions& options, int max_growth);
     /// Snaps the group and commits its files; returns its report. `progress` (optional) is the
-    /// engine's callback for this run (SnapProgress: throw from it to stop the tile).
-    TileReport run(std::size_t group, const SnapProgress& progress = {}) const;
+    /// engine's callback for this run (SnapProgress: throw from it to stop the tile). `whole`
+    /// input with `max_vertices` > 0: throws std::length_error, snapping nothing, when the
+    /// features whole hold more vertices than that.
+    TileReport run(std::size_t group, const SnapProgress& progress = {}, TileInputMode mode = TileInputMode::cut,
+                   std::uint64_t max_vertices = 0) const;
     /// Commits the group as failed (--on-error skip): every feature of its input gets problem
-    /// 303 with `reason` and no geometry (the stitch drops it whole), and it has no seams.
+    /// 303, "tile T (N features: FIDs ...) failed <reason>; not written", and no geometry (the
+    /// stitch drops it whole), and it has no seams.
     void fail(std::size_t group, const std::string& reason) const;
+    /// "312 features: FIDs 12, 15, 17, ... and 304 more" (input FIDs, ascending), for messages.
+    std::string describe_features(std::size_t group) const;
     /// Engine vertices the group's input holds (an estimate for a merged group).
     std::uint64_t vertices(std::size_t group) const;
 
 private:
-    tiling::TileJobInput gather(std::size_t group, double halo) const;
-    tiling::TileJobInput gather_wide(std::size_t group, double halo) const;
+    tiling::TileJobInput gather(std::size_t group, double halo, TileInputMode mode = TileInputMode::cut) const;
+    tiling::TileJobInput gather_wide(std::size_t group, double halo, TileInputMode mode) const;
+    std::string describe(const std::vector<tiling::TileFeature>& features) const;
     void commit(std::size_t group, const tiling::TileOutcome& oc, TileReport& report) const;
     void write_files(std::size_t group, const TileReport& report, const std::vector<Piece>& pieces,
                      const std::vector<SeamEdge>& seams) const;

@@ -141,7 +141,9 @@ struct TiledRun::Impl {
     void save_groups();
     void run_groups(std::vector<std::size_t> pending, const TileProgress& progress, bool retry = true);
     std::vector<std::pair<std::size_t, std::string>> run_once(std::vector<std::size_t> pending, const TileProgress& progress);
-    std::string run_one(const TileRunner& runner, std::size_t group, const std::function<void(std::size_t, std::size_t)>& on_progress);
+    std::string run_one(const TileRunner& runner, std::size_t group, const std::function<void(std::size_t, std::size_t)>& on_progress,
+                        TileInputMode mode = TileInputMode::cut);
+    void retry_whole(const std::vector<std::pair<std::size_t, std::string>>& failed, const std::string& tried);
     void retry_merged(const std::vector<std::pair<std::size_t, std::string>>& failed, const TileProgress& progress);
     std::vector<std::uint64_t> dropped_ranks() const;
     std::uint64_t max_tile_vertices() const;
@@ -176,7 +178,8 @@ std::uint64_t TiledRun::Impl::max_tile_vertices() const
 // Biggest first (the last to finish are small); at most 2 x threads in the pipeline and, with
 // a pool, only as many running as their estimates fit. Results do not depend on the order.
 // A tile whose engine throws stops the run (tile_error), or with OnError::skip is retried merged
-// with its neighbours (`retry`), and when that fails too, committed as failed.
+// with its neighbours (`retry`), then untiled in its region, and when that fails too, committed
+// as failed.
 void TiledRun::Impl::run_groups(std::vector<std::size_t> pending, const TileProgress& progress, bool retry)
 {
     const std::vector<std::pair<std::size_t, std::string>> failed = run_once(std::move(pending), progress);
@@ -188,9 +191,25 @@ void TiledRun::Impl::run_groups(std::vector<std::size_t> pending, const TileProg
         retry_merged(failed, progress);
         return;
     }
+    retry_whole(failed, "alone");
+}
+
+// The last try of each failed group: its region untiled, every feature meeting it given whole
+// (an untiled run's view of it: no shortcut or detour edge), one group at a time with the whole
+// memory pool. It goes through the seam check like any tile (a disagreement merges it with the
+// neighbour, and a merged run that fails comes back here, larger each time). When it fails too,
+// the group is committed as failed: its features are reported (303) with the tries and reasons.
+void TiledRun::Impl::retry_whole(const std::vector<std::pair<std::size_t, std::string>>& failed, const std::string& tried)
+{
     const TileRunner runner(store, layout, groups, meta, options, tiling.max_growth);
     for (const auto& [g, reason] : failed) {
-        runner.fail(g, reason);
+        const std::string again = run_one(runner, g, [](std::size_t, std::size_t) {}, TileInputMode::whole);
+        ++groups.runs[g];
+        if (again.empty()) {
+            ++stats.tile_runs;
+            continue;
+        }
+        runner.fail(g, tried + " (" + reason + ") and untiled in its region (" + again + ")");
     }
 }
 
@@ -274,9 +293,11 @@ std::vector<std::pair<std::size_t, std::string>> TiledRun::Impl::run_once(std::v
 // check_cancel from the engine's progress), running out of memory, a budget error and a work
 // file that cannot be read or written (a full disk) always leave the run: they are not the
 // tile's fault, and retrying it would write more.
-std::string TiledRun::Impl::run_one(const TileRunner& runner, std::size_t group, const std::function<void(std::size_t, std::size_t)>& on_progress)
+std::string TiledRun::Impl::run_one(const TileRunner& runner, std::size_t group, const std::function<void(std::size_t, std::size_t)>& on_progress,
+                                    TileInputMode mode)
 {
     bool cancelled = false;
+    const std::uint64_t cap = mode == TileInputMode::whole ? max_tile_vertices() : 0;
     try {
         runner.run(group, [&](std::size_t done, std::size_t of) {
             if (schedule.check_cancel) {
@@ -288,7 +309,7 @@ std::string TiledRun::Impl::run_one(const TileRunner& runner, std::size_t group,
                 }
             }
             on_progress(done, of);
-        });
+        }, mode, cap);
         return {};
     } catch (const std::bad_alloc&) {
         throw;
@@ -307,7 +328,8 @@ std::string TiledRun::Impl::run_one(const TileRunner& runner, std::size_t group,
             std::snprintf(box, sizeof box, "%.17g,%.17g,%.17g,%.17g", core.xmin, core.ymin, core.xmax, core.ymax);
             throw tile_error(groups.leaves[group].front(),
                              "tile " + std::to_string(groups.leaves[group].front()) + " (core " + box + ", " +
-                                 std::to_string(runner.vertices(group)) + " vertices) failed: " + reason);
+                                 std::to_string(runner.vertices(group)) + " vertices, " +
+                                 runner.describe_features(group) + ") failed: " + reason);
         }
         return reason;
     }
@@ -344,8 +366,8 @@ std::vector<std::uint64_t> TiledRun::Impl::dropped_ranks() const
 
 // Each failed group merged with every live group whose core touches its own, and run again
 // once. When the merged tile fails too, it is split back into the groups it was made of: the
-// neighbours run again as they were (the same result as before), and only the groups that
-// failed alone are committed as failed (303). A merge the memory pool cannot hold is not tried.
+// neighbours run again as they were (the same result as before), and the groups that failed
+// alone get their last try (retry_whole). A merge the memory pool cannot hold is not tried.
 void TiledRun::Impl::retry_merged(const std::vector<std::pair<std::size_t, std::string>>& failed, const TileProgress& progress)
 {
     const TileRunner runner(store, layout, groups, meta, options, tiling.max_growth);
@@ -353,6 +375,7 @@ void TiledRun::Impl::retry_merged(const std::vector<std::pair<std::size_t, std::
     const std::uint64_t cap = max_tile_vertices();
     std::vector<std::pair<std::size_t, std::size_t>> pairs;
     std::map<std::size_t, std::string> reasons; // failed alone: group -> message
+    std::vector<std::pair<std::size_t, std::string>> alone; // no merge possible: straight to the last try
     for (const auto& [g, reason] : failed) {
         const tiling::Box core = group_core(layout, groups, g);
         std::uint64_t vertices = runner.vertices(g);
@@ -365,7 +388,7 @@ void TiledRun::Impl::retry_merged(const std::vector<std::pair<std::size_t, std::
             }
         }
         if (neighbours.empty() || (cap > 0 && vertices > cap)) {
-            runner.fail(g, reason);
+            alone.emplace_back(g, reason);
             continue;
         }
         reasons.emplace(g, reason);
@@ -373,6 +396,7 @@ void TiledRun::Impl::retry_merged(const std::vector<std::pair<std::size_t, std::
             pairs.emplace_back(std::min(g, h), std::max(g, h));
         }
     }
+    retry_whole(alone, "alone");
     if (pairs.empty()) {
         save_groups();
         return;
@@ -423,9 +447,8 @@ void TiledRun::Impl::retry_merged(const std::vector<std::pair<std::size_t, std::
         }
     }
     save_groups();
-    for (const auto& [g, reason] : dropped) {
-        runner.fail(g, reason);
-    }
+    retry_whole(dropped, "alone and merged with its neighbours");
+    save_groups(); // the runs the last tries added
     run_groups(rerun, progress, false);
 }
 

@@ -6,13 +6,12 @@
 #include "assess/assess.hpp"
 #include "assess/snap_report.hpp"
 #include "config/errors.hpp"
+#include "io/commit_group.hpp"
 #include "io/dataset.hpp"
-#include "io/io_error.hpp"
 #include "io/tolerance.hpp"
 
 #include <fmt/format.h>
 
-#include <fstream>
 #include <iostream>
 #include <optional>
 #include <stdexcept>
@@ -45,12 +44,13 @@ public:
         GDALDatasetUniquePtr snapped = open_input(m_snapped);
         OGRLayer& a = select_layer(*original, m_original, m_layer_a);
         OGRLayer& b = select_layer(*snapped, m_snapped, m_layer_b);
+        const ProtectedFiles protect = protect_inputs(*original, *snapped);
         const std::optional<assess::SnapReport> report = read_report();
         AssessOptions options{tolerance(a, report), m_key, 20};
         options.report = report ? &*report : nullptr;
         const AssessReport result = measure({*original, a}, {*snapped, b}, options);
         if (!m_json.empty()) {
-            write_json(result);
+            write_text_file_atomically(m_json, assess_report_json(result), protect, "--json");
         }
         std::cout << assess_report_table(result);
         return m_fail_on_defects && !result.contract_holds() ? 3 : 0;
@@ -87,13 +87,20 @@ private:
         }
     }
 
-    void write_json(const AssessReport& report) const
+    /// The files --json must never replace (every file of both layers' datasets and the snap
+    /// report, under any name); --json is refused before measuring when it is one of them.
+    ProtectedFiles protect_inputs(GDALDataset& original, GDALDataset& snapped) const
     {
-        std::ofstream out(m_json);
-        out << assess_report_json(report);
-        if (!out.flush()) {
-            throw io_error(m_json, "", "cannot write the JSON report");
+        ProtectedFiles protect;
+        protect.add_dataset(original, "ORIGINAL " + m_original);
+        protect.add_dataset(snapped, "SNAPPED " + m_snapped);
+        if (!m_report.empty()) {
+            protect.add_file(m_report, "the report " + m_report);
         }
+        if (!m_json.empty()) {
+            check_text_file_target(m_json, protect, "--json");
+        }
+        return protect;
     }
 
     std::string m_original, m_snapped, m_layer_a, m_layer_b, m_key, m_json, m_report;

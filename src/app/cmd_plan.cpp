@@ -103,6 +103,7 @@ public:
             return 0;
         }
         check_arguments();
+        InterruptGuard interrupt;
         const Config& config = *resolved;
         const ThreadLimit limit(config.run.threads);
         SnapArgs args = m_args;
@@ -114,7 +115,7 @@ public:
         Plan plan = make_input_plan(args, config);
         work.bind(cluster_manifest(plan, args));
         Progress progress(m_args.progress, m_args.json_progress);
-        RunPhases phases(work, budget, progress, plan.options, plan.tiling);
+        RunPhases phases(work, budget, progress, interrupt, plan.options, plan.tiling);
         phases.read(plan);
         phases.open_tiles();
         phases.spool();

@@ -28,22 +28,26 @@ public:
     int run() override
     {
         const std::optional<Config> resolved = start_snap_command(m_args);
-        if (!resolved) return 0;
+        if (!resolved) {
+            return 0;
+        }
         const Config& config = *resolved;
         const ThreadLimit limit(config.run.threads);
         const auto start = std::chrono::steady_clock::now();
+        InterruptGuard interrupt; // from here to the end: no moment of the run gets a signal's default action
         Progress progress(m_args.progress, m_args.json_progress);
         Plan plan;
         double total = 0;
         int code = 0;
-        auto stage = [&](CommitGroup& outputs, const Plan& p, const RunResult& r) {
+        const auto stage = [&](CommitGroup& outputs, const Plan& p, const RunResult& r) {
             total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             if (!m_args.report.empty()) {
                 stage_report(outputs, m_args.report, p, r, total);
             }
         };
-        auto deliver = [&](const Plan& p, const RunResult& r) { code = deliver_run(m_args, p, r, total); };
-        snap_run(m_args, config, progress, plan, stage, deliver);
+        const auto deliver = [&](const Plan& p, const RunResult& r) { code = deliver_run(m_args, p, r, total); };
+        snap_run(m_args, config, progress, plan, interrupt, stage, deliver);
+        interrupt.warn_if_too_late();
         return code;
     }
 

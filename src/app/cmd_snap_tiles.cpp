@@ -109,6 +109,7 @@ public:
             throw argument_error("missing RUN_DIR: trisnap snap-tiles RUN_DIR [--shard I --num-shards N]");
         }
         const auto start = std::chrono::steady_clock::now();
+        InterruptGuard interrupt;
         RunDir dir = RunDir::open(m_run_dir);
         const ShardIndex shard = resolve_shard(m_shard, m_num_shards, dir.record().shards, env);
         const std::size_t stale = dir.remove_stale_temporaries();
@@ -117,7 +118,7 @@ public:
         tiling.threads = task_threads(m_args.threads);
         const ThreadLimit limit(tiling.threads);
         Progress progress(m_args.progress, m_args.json_progress);
-        RunPhases phases(dir.work(), budget, progress, dir.options(), tiling);
+        RunPhases phases(dir.work(), budget, progress, interrupt, dir.options(), tiling);
         phases.set_interrupt_message("the tiles snapped so far are kept: run this task again to finish its shard");
         if (!phases.load_read()) {
             throw argument_error(m_run_dir + ": the plan did not finish (no read.bin); run trisnap plan again");

@@ -7,6 +7,7 @@
 #include "app/collapse_guard.hpp"
 #include "app/command.hpp"
 #include "app/options.hpp"
+#include "app/pipeline.hpp"
 #include "app/run_dir.hpp"
 #include "app/run_phases.hpp"
 #include "app/shards.hpp"
@@ -108,6 +109,7 @@ public:
         setup_logging(m_args.verbose, m_args.quiet);
         check_arguments();
         const auto start = Clock::now();
+        InterruptGuard interrupt; // from here to the end: no moment of the run gets a signal's default action
         RunDir dir = RunDir::open(m_run_dir);
         check_finished(dir, m_num_shards);
         const SnapArgs args = snap_args(dir);
@@ -126,15 +128,16 @@ public:
         plan.write.protected_files.refuse_tree(dir.path(), "RUN_DIR");
         CommitGroup outputs;
         plan.write.commit_group = &outputs;
-        const RunResult result = stitch_and_write(dir, budget, plan);
+        const RunResult result = stitch_and_write(dir, budget, plan, interrupt);
         const double total = since(start);
         if (!args.report.empty()) {
             stage_report(outputs, args.report, plan, result, total);
         }
-        outputs.commit();
+        commit_outputs(outputs, interrupt);
         plan.write.commit_group = nullptr;
         const int code = deliver_run(args, plan, result, total);
         spdlog::info("run directory {} kept; remove it with rm -r once the output is checked", dir.path());
+        interrupt.warn_if_too_late();
         return code;
     }
 
@@ -164,10 +167,10 @@ private:
         return args;
     }
 
-    RunResult stitch_and_write(RunDir& dir, const RunBudget& budget, Plan& plan) const
+    RunResult stitch_and_write(RunDir& dir, const RunBudget& budget, Plan& plan, InterruptGuard& interrupt) const
     {
         Progress progress(m_args.progress, m_args.json_progress);
-        RunPhases phases(dir.work(), budget, progress, plan.options, plan.tiling);
+        RunPhases phases(dir.work(), budget, progress, interrupt, plan.options, plan.tiling);
         if (!phases.load_read()) {
             throw argument_error(dir.path() + ": the plan did not finish (no read.bin); run trisnap plan again");
         }

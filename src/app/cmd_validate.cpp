@@ -81,7 +81,7 @@ private:
             small += count_smaller_than(*layer, plan.tolerance);
         }
         const auto features = static_cast<std::size_t>(plan.feature_count);
-        check_collapse(plan, small, features, true);
+        check_collapse(plan, Drops{small, 0}, features, true);
         std::cout << fmt::format("collapse:  at least {} of {} features vanish (smaller than the tolerance)\n",
                                  small, features);
     }

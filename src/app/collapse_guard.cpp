@@ -1,6 +1,7 @@
 #include "app/collapse_guard.hpp"
 
 #include "config/errors.hpp"
+#include "core/snap.hpp"
 #include "io/output_driver.hpp"
 #include "io/tolerance.hpp"
 
@@ -26,40 +27,98 @@ bool from_metres(const Plan& plan)
     return plan.config.snap.tolerance_m.has_value();
 }
 
+bool failed_tile(const Problem& problem)
+{
+    return problem.code == ProblemCode::tile_failed;
+}
+
+/// "292 of 292 features (collapsed)", "3 of 4 features (1 collapsed, 2 rejected: ...)".
+std::string dropped_text(const Drops& drops, std::size_t features)
+{
+    const std::string rejected = fmt::format("rejected: a coordinate too large for the tolerance at double precision, "
+                                             "problem {}", static_cast<int>(ProblemCode::huge_coordinate));
+    const std::size_t dropped = drops.collapsed + drops.rejected;
+    if (drops.rejected == 0) {
+        return fmt::format("{} of {} features (collapsed)", dropped, features);
+    }
+    if (drops.collapsed == 0) {
+        return fmt::format("{} of {} features ({})", dropped, features, rejected);
+    }
+    return fmt::format("{} of {} features ({} collapsed, {} {})", dropped, features, drops.collapsed, drops.rejected,
+                       rejected);
+}
+
+/// What to do about rejections: the engine takes coordinates up to 2^44 tolerances (and 2^500).
+std::string rejection_advice(const Plan& plan)
+{
+    const double limit = std::min(std::ldexp(plan.tolerance, 44), k_max_coordinate);
+    return fmt::format("coordinates beyond {:g} cannot be snapped at this tolerance (2^44 times it, at most 2^500): "
+                       "see the problems in --report; a larger tolerance, or the layer moved nearer the origin, keeps "
+                       "them",
+                       limit);
+}
+
 } // namespace
 
-void check_collapse(const Plan& plan, std::size_t dropped, std::size_t features, bool predicted)
+void check_collapse(const Plan& plan, const Drops& drops, std::size_t features, bool predicted)
 {
-    if (plan.config.run.allow_collapse || dropped == 0) {
+    if (plan.config.run.allow_collapse || drops.collapsed + drops.rejected == 0) {
         return;
     }
     const bool in_degrees = degrees_above_warning(plan.tolerance, from_metres(plan), plan.layer->GetSpatialRef());
-    if (!in_degrees && !most_of(dropped, features)) {
+    const bool by_collapses = (in_degrees && drops.collapsed > 0) || most_of(drops.collapsed, features);
+    if (!by_collapses && !most_of(drops.collapsed + drops.rejected, features)) {
         return;
     }
     const std::string what =
         predicted ? fmt::format("at least {} of {} features are smaller than the tolerance: snapping would drop them",
-                                dropped, features)
-                  : fmt::format("snapping would drop {} of {} features (collapsed)", dropped, features);
+                                drops.collapsed, features)
+                  : "snapping would drop " + dropped_text(drops, features);
+    const std::string advice = by_collapses ? collapse_advice(plan.tolerance, from_metres(plan), *plan.layer)
+                                            : rejection_advice(plan);
     const std::string outcome = predicted ? "Stopped; --allow-collapse (or --force) runs it anyway"
                                           : "Nothing was written; --allow-collapse (or --force) writes it anyway";
-    throw argument_error(fmt::format("{}: {}; {}. {}", input_label(plan), what,
-                                     collapse_advice(plan.tolerance, from_metres(plan), *plan.layer), outcome));
+    throw argument_error(fmt::format("{}: {}; {}. {}", input_label(plan), what, advice, outcome));
 }
 
-std::size_t count_vanished(stitch::TiledRun& run)
+bool rejected_by_engine(const Problem& problem)
 {
+    return problem.code == ProblemCode::huge_coordinate;
+}
+
+std::set<std::pair<std::uint32_t, std::int64_t>> rejected_features(const ProblemLog& problems)
+{
+    std::set<std::pair<std::uint32_t, std::int64_t>> out;
+    problems.for_each([&](const Problem& p) {
+        if (rejected_by_engine(p)) {
+            out.emplace(p.layer, p.feature_id);
+        }
+    });
+    return out;
+}
+
+Drops count_vanished(stitch::TiledRun& run, const RunResult& result)
+{
+    const auto rejected = rejected_features(result.problems);
     const std::unique_ptr<stitch::OutputMerger> merger = run.output();
     stitch::OutputItem item;
-    std::size_t vanished = 0;
+    Drops drops;
+    std::uint32_t layer = 0;
+    std::uint64_t layer_end = result.layers.empty() ? 0 : result.layers[0].input; // input positions of `layer`
     while (merger->next(item)) {
-        const bool failed_tile = std::any_of(item.problems.begin(), item.problems.end(),
-                                             [](const Problem& p) { return p.code == ProblemCode::tile_failed; });
-        if (item.output.geometry.empty() && !failed_tile) {
-            ++vanished;
+        while (item.seq >= layer_end && layer + 1 < result.layers.size()) {
+            layer_end += result.layers[++layer].input;
+        }
+        if (!item.output.geometry.empty() || std::any_of(item.problems.begin(), item.problems.end(), failed_tile)) {
+            continue; // written, or reported as 303 (--on-error skip asked for it)
+        }
+        if (rejected.count({layer, item.output.id})) {
+            ++drops.rejected;
+        } else {
+            ++drops.collapsed;
         }
     }
-    return vanished;
+    return drops;
 }
 
 void guard_collapse(const Plan& plan, RunPhases& phases)
@@ -67,9 +126,10 @@ void guard_collapse(const Plan& plan, RunPhases& phases)
     if (plan.config.run.allow_collapse || !is_stdout_path(plan.write.path)) {
         return; // a file OUT is checked at the end of the write phase, before its commit
     }
-    const std::size_t vanished = count_vanished(phases.tiles());
-    spdlog::debug("collapse guard: {} of {} features would be dropped", vanished, phases.result().input);
-    check_collapse(plan, vanished, phases.result().input);
+    const Drops drops = count_vanished(phases.tiles(), phases.result());
+    spdlog::debug("collapse guard: {} collapsed and {} rejected of {} features would be dropped", drops.collapsed,
+                  drops.rejected, phases.result().input);
+    check_collapse(plan, drops, phases.result().input);
 }
 
 std::size_t count_smaller_than(OGRLayer& layer, double tolerance)

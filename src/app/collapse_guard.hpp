@@ -14,15 +14,39 @@
 #include "app/run_phases.hpp"
 
 #include <cstddef>
+#include <cstdint>
+#include <set>
+#include <utility>
+#include <vector>
 
 namespace trisnap {
 
-/// Throws argument_error when `dropped` of `features` is more than the guard allows (and the
-/// plan does not allow collapse). `predicted`: the count is validate's lower bound, not a run's.
-void check_collapse(const Plan& plan, std::size_t dropped, std::size_t features, bool predicted = false);
+/// What snapping would drop, by cause. Only collapses (201, 202: a feature narrower than the
+/// tolerance) say anything about the tolerance's unit or size; features the engine rejected
+/// (109: a coordinate too large for the tolerance at double precision) are named apart and
+/// count only towards the share of the layer lost. Failed tiles (303) are not counted at all.
+struct Drops {
+    std::size_t collapsed = 0;
+    std::size_t rejected = 0;
+};
 
-/// The stitched features that came out empty: one pass over the tiles' results (after stitch).
-std::size_t count_vanished(stitch::TiledRun& run);
+/// Throws argument_error when `drops` of `features` are more than the guard allows (and the
+/// plan does not allow collapse): more than a tenth of the layer (collapsed and rejected
+/// together), or any collapse at a tolerance in degrees above the warning threshold.
+/// `predicted`: the count is validate's lower bound of collapses, not a run's.
+void check_collapse(const Plan& plan, const Drops& drops, std::size_t features, bool predicted = false);
+
+/// The stitched features that came out empty, by cause: one pass over the tiles' results
+/// (after stitch); `result` holds the read phase's problems and per-layer counts.
+Drops count_vanished(stitch::TiledRun& run, const RunResult& result);
+
+/// True for a problem that says the engine rejected the feature (109) rather than snapped it away.
+bool rejected_by_engine(const Problem& problem);
+
+/// The features the engine's input cleaning rejected (109), as (input layer, FID), from the read
+/// phase's problems: they reach the write phase as features without an output or a problem of
+/// their own.
+std::set<std::pair<std::uint32_t, std::int64_t>> rejected_features(const ProblemLog& problems);
 
 /// Between the stitch and the write phase, for a streamed OUT only: unless the plan allows
 /// collapse, counts the features the write would drop and checks them (check_collapse).

@@ -71,7 +71,8 @@ ExitStatus exit_status(const std::exception& e)
     }
     if (dynamic_cast<const stitch::tile_error*>(&e) != nullptr) {
         return {1, std::string(e.what()) + "; nothing was left at OUT (--on-error skip retries the tile merged with "
-                                            "its neighbours, then reports its features as problem 303 and goes on)"};
+                                            "its neighbours, then untiled in its region, then reports its features "
+                                            "as problem 303 and goes on)"};
     }
     const bool usage = dynamic_cast<const argument_error*>(&e) != nullptr ||
                        dynamic_cast<const config_error*>(&e) != nullptr;

@@ -1,14 +1,25 @@
 #include "app/interrupt.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <atomic>
+#include <cstdlib>
 #include <cstring>
+#include <string_view>
 #include <unistd.h>
 
 namespace trisnap {
 namespace {
 
 std::atomic<int> g_signal{0};
+std::atomic<bool> g_in_place{false}; ///< the outputs are in place: a signal comes too late to stop the run
 bool g_tell = false; ///< stderr is a terminal: say that the first signal was seen
+
+void note(const char* text, std::size_t size)
+{
+    const ssize_t ignored = write(STDERR_FILENO, text, size);
+    static_cast<void>(ignored);
+}
 
 extern "C" void remember_signal(int signal)
 {
@@ -21,9 +32,18 @@ extern "C" void remember_signal(int signal)
     if (!g_tell) {
         return;
     }
+    if (g_in_place.load()) {
+        constexpr const char k_note[] = "\ntrisnap: the output is in place already; finishing\n";
+        note(k_note, sizeof k_note - 1);
+        return;
+    }
     constexpr const char k_note[] = "\ntrisnap: stopping at the next feature or tile; signal again to stop at once\n";
-    const ssize_t ignored = write(STDERR_FILENO, k_note, sizeof k_note - 1);
-    static_cast<void>(ignored);
+    note(k_note, sizeof k_note - 1);
+}
+
+const char* signal_name(int signal)
+{
+    return signal == SIGINT ? "SIGINT" : "SIGTERM";
 }
 
 } // namespace
@@ -31,6 +51,7 @@ extern "C" void remember_signal(int signal)
 InterruptGuard::InterruptGuard()
 {
     g_signal.store(0);
+    g_in_place.store(false);
     g_tell = isatty(STDERR_FILENO) != 0;
     struct sigaction action{};
     action.sa_handler = remember_signal;
@@ -48,14 +69,51 @@ InterruptGuard::~InterruptGuard()
 void InterruptGuard::check() const
 {
     const int signal = g_signal.load();
-    if (signal == 0) {
+    if (signal == 0 || g_in_place.load()) {
         return;
     }
-    const std::string name = signal == SIGINT ? "SIGINT" : "SIGTERM";
+    const std::string name = signal_name(signal);
     if (m_message) {
         throw interrupted(signal, "interrupted by " + name + "; " + m_message);
     }
     throw interrupted(signal, "interrupted by " + name + " while " + m_activity + "; nothing was left at OUT");
+}
+
+void InterruptGuard::check_at(const char* point) const
+{
+    signal_point(point);
+    check();
+}
+
+void InterruptGuard::outputs_in_place()
+{
+    g_in_place.store(true);
+}
+
+void InterruptGuard::warn_if_too_late() const
+{
+    const int signal = g_signal.load();
+    if (signal != 0 && g_in_place.load()) {
+        spdlog::warn("{} came after the output was in place: the run finished", signal_name(signal));
+    }
+}
+
+void signal_point(const char* point)
+{
+    const char* spec = std::getenv("TRISNAP_TEST_RAISE");
+    if (spec == nullptr) {
+        return;
+    }
+    const std::string_view text(spec);
+    const std::size_t colon = text.rfind(':');
+    if (colon == std::string_view::npos || text.substr(0, colon) != point) {
+        return;
+    }
+    const std::string_view name = text.substr(colon + 1);
+    const int signal = name == "SIGINT" ? SIGINT : name == "SIGTERM" ? SIGTERM : name == "SIGSTOP" ? SIGSTOP : 0;
+    if (signal != 0) {
+        std::raise(signal);
+    }
 }
 
 } // namespace trisnap

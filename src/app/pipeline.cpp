@@ -56,6 +56,15 @@ nlohmann::ordered_json layer_list(const Plan& plan)
 
 } // namespace
 
+void commit_outputs(CommitGroup& outputs, InterruptGuard& interrupt)
+{
+    interrupt.check_at("report-staged");
+    outputs.set_before_rename([&] { interrupt.check_at("before-rename"); });
+    outputs.commit();
+    interrupt.outputs_in_place();
+    signal_point("after-rename");
+}
+
 std::vector<bool> renumbered_layers(const RunResult& result)
 {
     std::vector<bool> renumber;
@@ -65,9 +74,9 @@ std::vector<bool> renumbered_layers(const RunResult& result)
     return renumber;
 }
 
-RunResult run_pipeline(Plan& plan, WorkDir& work, const RunBudget& budget, Progress& progress)
+RunResult run_pipeline(Plan& plan, WorkDir& work, const RunBudget& budget, Progress& progress, InterruptGuard& interrupt)
 {
-    RunPhases phases(work, budget, progress, plan.options, plan.tiling);
+    RunPhases phases(work, budget, progress, interrupt, plan.options, plan.tiling);
     phases.read(plan);
     // The output is created now, before any snapping: a layer or field the driver refuses stops
     // the run before the long part.
@@ -84,8 +93,8 @@ RunResult run_pipeline(Plan& plan, WorkDir& work, const RunBudget& budget, Progr
     return phases.finish();
 }
 
-RunResult snap_run(const SnapArgs& args, const Config& config, Progress& progress, Plan& plan, const StageOutputs& stage,
-                   const DeliverRun& deliver)
+RunResult snap_run(const SnapArgs& args, const Config& config, Progress& progress, Plan& plan, InterruptGuard& interrupt,
+                   const StageOutputs& stage, const DeliverRun& deliver)
 {
     if (args.input.empty() || args.output.empty()) {
         throw argument_error(std::string("missing ") + (args.input.empty() ? "IN" : "OUT") + ": trisnap snap IN OUT --tolerance T");
@@ -102,12 +111,12 @@ RunResult snap_run(const SnapArgs& args, const Config& config, Progress& progres
     const double open = since(start);
     CommitGroup outputs; // OUT and the report go into place together, or neither
     plan.write.commit_group = &outputs;
-    RunResult result = run_pipeline(plan, work, budget, progress);
+    RunResult result = run_pipeline(plan, work, budget, progress, interrupt);
     result.seconds_open = open;
     if (stage) {
         stage(outputs, plan, result);
     }
-    outputs.commit();
+    commit_outputs(outputs, interrupt);
     plan.write.commit_group = nullptr;
     if (deliver) {
         try {

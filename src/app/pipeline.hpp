@@ -12,6 +12,7 @@
 // Accounting invariant: input == written + rejected + dropped + unwritable; every feature not
 // written has at least one problem carrying its input FID.
 #include "app/budget.hpp"
+#include "app/interrupt.hpp"
 #include "app/plan.hpp"
 #include "app/problem_log.hpp"
 #include "app/progress.hpp"
@@ -55,6 +56,7 @@ struct RunResult {
     std::size_t written = 0;
     std::size_t rejected = 0;      ///< not given to the engine (NaN/inf coordinates)
     std::size_t dropped = 0;       ///< the engine returned nothing (collapsed, huge coordinates, ...)
+    std::size_t dropped_rejected = 0; ///< of `dropped`: the engine rejected them (109 huge coordinate)
     std::size_t unwritable = 0;    ///< the driver refused them
     std::size_t snapped = 0;       ///< given to the engine
     std::size_t input_vertices = 0;
@@ -80,7 +82,7 @@ std::vector<bool> renumbered_layers(const RunResult& result);
 
 /// Runs the plan. Throws io_error for I/O failures and an empty selection, argument_error when
 /// the memory limit is too small (naming the feature or tile and the smallest limit that works).
-RunResult run_pipeline(Plan& plan, WorkDir& work, const RunBudget& budget, Progress& progress);
+RunResult run_pipeline(Plan& plan, WorkDir& work, const RunBudget& budget, Progress& progress, InterruptGuard& interrupt);
 
 /// Files added to OUT's commit (the report) once the run is done, before they all go into place.
 using StageOutputs = std::function<void(CommitGroup&, const Plan&, const RunResult&)>;
@@ -89,11 +91,16 @@ using DeliverRun = std::function<void(const Plan&, const RunResult&)>;
 
 /// A snap run as the CLI makes it: the budget, the work directory (continued with --resume),
 /// the plan (opens the input; `plan` receives it), the pipeline, then OUT and what `stage`
-/// adds renamed into place together, then `deliver`; the work directory is removed after that
-/// (also when `deliver` throws). `seconds_open` of the result is the plan's time. The result's
-/// problem log is closed (its counts stay).
-RunResult snap_run(const SnapArgs& args, const Config& config, Progress& progress, Plan& plan,
+/// adds renamed into place together (commit_outputs), then `deliver`; the work directory is
+/// removed after that (also when `deliver` throws). `seconds_open` of the result is the plan's
+/// time. The result's problem log is closed (its counts stay). `interrupt` is the command's guard.
+RunResult snap_run(const SnapArgs& args, const Config& config, Progress& progress, Plan& plan, InterruptGuard& interrupt,
                    const StageOutputs& stage = {}, const DeliverRun& deliver = {});
+
+/// The end of a run that writes files: a last check for a signal (after the report was
+/// staged, and again once the targets are checked, before any is touched), the renames, and
+/// from then on the run is complete (a signal no longer stops it).
+void commit_outputs(CommitGroup& outputs, InterruptGuard& interrupt);
 
 /// The manifest of a run for its work directory: what must match for --resume.
 std::string run_manifest(const Plan& plan);

@@ -247,11 +247,14 @@ void stage_report(CommitGroup& group, const std::string& path, const Plan& plan,
 void print_summary(std::ostream& out, const Plan& plan, const RunResult& r, double total_seconds)
 {
     const std::size_t not_written = r.input - r.written;
-    const std::string failed = r.stitch.failed_features == 0
-                                   ? ""
-                                   : fmt::format(", {} of them in failed tiles", r.stitch.failed_features);
+    std::string causes = r.stitch.failed_features == 0
+                             ? ""
+                             : fmt::format(", {} of them in failed tiles", r.stitch.failed_features);
+    if (r.dropped_rejected > 0) {
+        causes += fmt::format(", {} of them rejected (109 huge coordinate)", r.dropped_rejected);
+    }
     out << fmt::format("{} in, {} written, {} not written ({} rejected on input, {} dropped by the engine{}, {} refused by the driver)\n",
-                       count_of(r.input, "feature"), r.written, not_written, r.rejected, r.dropped, failed, r.unwritable);
+                       count_of(r.input, "feature"), r.written, not_written, r.rejected, r.dropped, causes, r.unwritable);
     for (std::size_t k = 0; plan.layers.size() > 1 && k < r.layers.size(); ++k) {
         const LayerCounts& c = r.layers[k];
         out << fmt::format("  layer '{}': {} in, {} written, {} not written ({} rejected, {} dropped, {} refused)\n",

@@ -28,9 +28,9 @@ double since(Clock::time_point start)
 
 } // namespace
 
-RunPhases::RunPhases(WorkDir& work, const RunBudget& budget, Progress& progress, const SnapOptions& options,
-                     const stitch::TilingOptions& tiling)
-    : m_work(work), m_budget(budget), m_progress(progress), m_options(options), m_tiling(tiling)
+RunPhases::RunPhases(WorkDir& work, const RunBudget& budget, Progress& progress, InterruptGuard& interrupt,
+                     const SnapOptions& options, const stitch::TilingOptions& tiling)
+    : m_work(work), m_budget(budget), m_progress(progress), m_options(options), m_tiling(tiling), m_interrupt(interrupt)
 {
     m_result.budget = budget;
     m_result.resumed = work.resumed();
@@ -64,6 +64,9 @@ void RunPhases::phase(const char* name, F&& body)
     m_interrupt.set_activity(activity_of(name));
     m_interrupt.check();
     body();
+    // A signal the phase's own checks did not see (the spool and the seam check have none
+    // between their passes) is named after this phase, not the next.
+    m_interrupt.check_at(name);
     m_result.phases.push_back(PhaseRecord{name, since(start), peak_rss()});
     m_result.spool_bytes = std::max(m_result.spool_bytes, m_work.bytes());
     spdlog::info("{}: {:.2f} s, peak memory {}, work files {}", name, m_result.phases.back().seconds,
@@ -187,7 +190,10 @@ void RunPhases::open_tiles()
 
 void RunPhases::spool()
 {
-    auto on_pass = [&](std::uint64_t done, std::uint64_t) { m_progress.update(static_cast<std::int64_t>(done)); };
+    auto on_pass = [&](std::uint64_t done, std::uint64_t) {
+        m_interrupt.check(); // every 4096 features of each pass
+        m_progress.update(static_cast<std::int64_t>(done));
+    };
     phase("spool", [&] {
         m_progress.start("spool", static_cast<std::int64_t>(2 * m_meta.spooled), "feature reads");
         guarded([&] { m_run->plan(m_meta, on_pass); });
@@ -234,6 +240,9 @@ void RunPhases::write(Plan& plan, LayerWriter& writer)
     phase("write", [&] {
         const std::unique_ptr<stitch::OutputMerger> merger = m_run->output();
         write_layer(plan, m_work.store(), *merger, writer, m_result, m_progress, m_interrupt);
+        if (writer.output_in_place()) {
+            m_interrupt.outputs_in_place(); // streamed, or its transaction committed: nothing takes it back
+        }
         m_result.stats = merger->counts().stats;
         m_result.tiles = merger->tiles();
         m_result.stitch = m_run->stats();

@@ -24,8 +24,10 @@ namespace trisnap {
 
 class RunPhases {
 public:
-    RunPhases(WorkDir& work, const RunBudget& budget, Progress& progress, const SnapOptions& options,
-              const stitch::TilingOptions& tiling);
+    /// `interrupt` is the command's: it lives from the command's start to its end, past the
+    /// final rename, so a signal at any moment of the run stops it the same way.
+    RunPhases(WorkDir& work, const RunBudget& budget, Progress& progress, InterruptGuard& interrupt,
+              const SnapOptions& options, const stitch::TilingOptions& tiling);
     ~RunPhases();
     RunPhases(const RunPhases&) = delete;
     RunPhases& operator=(const RunPhases&) = delete;
@@ -46,7 +48,8 @@ public:
     void snap(const std::function<bool(std::size_t)>& mine = {});
     /// Phase "stitch": the seam check; tiles that disagree are merged and snapped again.
     void stitch();
-    /// Phase "write": the stitched features with the layers' attributes, in input order.
+    /// Phase "write": the stitched features with the layers' attributes, in input order, then
+    /// OUT closed (its files staged in the plan's commit group, or its transaction committed).
     void write(Plan& plan, LayerWriter& writer);
 
     /// What an interrupt (SIGINT, SIGTERM) between features or tiles reports.
@@ -74,7 +77,7 @@ private:
     SnapOptions m_options;
     stitch::TilingOptions m_tiling;
     RunResult m_result;
-    InterruptGuard m_interrupt;
+    InterruptGuard& m_interrupt;
     stitch::MemoryModel m_model;
     stitch::SpoolMeta m_meta;
     std::unique_ptr<stitch::TiledRun> m_run;

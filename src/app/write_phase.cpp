@@ -12,7 +12,9 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <limits>
+#include <set>
 
 namespace trisnap {
 namespace {
@@ -60,7 +62,8 @@ private:
 class Writer {
 public:
     Writer(Plan& plan, stitch::OutputMerger& merger, LayerWriter& writer, RunResult& result)
-        : m_plan(plan), m_merger(merger), m_writer(writer), m_result(result)
+        : m_plan(plan), m_merger(merger), m_writer(writer), m_result(result),
+          m_rejected(rejected_features(result.problems))
     {
     }
     /// Feature `seq` (input position across all layers) of input layer `k`.
@@ -73,12 +76,13 @@ public:
 
 private:
     void write(std::uint32_t k, std::int64_t fid, OGRFeature& f, OGRGeometry* geometry);
-    void vanished(std::uint32_t k, const RecordEntry& e, bool reported);
+    void vanished(std::uint32_t k, const RecordEntry& e, bool reported, bool rejected);
 
     Plan& m_plan;
     stitch::OutputMerger& m_merger;
     LayerWriter& m_writer;
     RunResult& m_result;
+    std::set<std::pair<std::uint32_t, std::int64_t>> m_rejected; ///< (layer, FID) the engine rejected (109)
     stitch::OutputItem m_item;
 };
 
@@ -97,11 +101,15 @@ void Writer::write(std::uint32_t k, std::int64_t fid, OGRFeature& f, OGRGeometry
 }
 
 // A feature the engine returned empty: a problem says why, unless the read or the engine has
-// said something about it already (`reported`).
-void Writer::vanished(std::uint32_t k, const RecordEntry& e, bool reported)
+// said something about it already (`reported`); `rejected`: the engine refused it (109), which
+// the collapse guard counts apart from collapses.
+void Writer::vanished(std::uint32_t k, const RecordEntry& e, bool reported, bool rejected)
 {
     ++m_result.dropped;
     ++m_result.layers[k].dropped;
+    if (rejected) {
+        ++m_result.dropped_rejected;
+    }
     if (!reported) {
         const auto type = static_cast<OGRwkbGeometryType>(e.type);
         m_result.problems.add(feature_problem(k, e.fid, type == wkbPolygon || type == wkbMultiPolygon
@@ -126,12 +134,14 @@ void Writer::feature(std::uint32_t k, std::size_t seq, const RecordEntry& e, OGR
         changed(k, "the stitched features do not line up with the input");
     }
     const bool reported = e.problem || !m_item.problems.empty();
+    const bool rejected = m_rejected.count({k, e.fid}) > 0 ||
+                          std::any_of(m_item.problems.begin(), m_item.problems.end(), rejected_by_engine);
     for (Problem& p : m_item.problems) {
         p.layer = k;
         m_result.problems.add(std::move(p));
     }
     if (m_item.output.geometry.empty()) {
-        vanished(k, e, reported);
+        vanished(k, e, reported, rejected);
         return;
     }
     f->SetGeometryDirectly(nullptr);
@@ -180,7 +190,8 @@ void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerge
     interrupt.check();
     // Before OUT is committed: nothing goes into place. Features of failed tiles (303) are not
     // collapses: they are reported, and --on-error skip asked for them to be left out.
-    check_collapse(plan, result.dropped - merger.counts().failed, result.input);
+    const std::size_t failed = merger.counts().failed;
+    check_collapse(plan, Drops{result.dropped - failed - result.dropped_rejected, result.dropped_rejected}, result.input);
     writer.commit();
     for (Problem& p : writer.take_problems()) {
         result.problems.add(std::move(p)); // values and field names the format changed

@@ -178,6 +178,9 @@ void CommitGroup::clean_up()
 void CommitGroup::commit()
 {
     check_targets();
+    if (m_before_rename) {
+        m_before_rename();
+    }
     {
         ScopedErrorCapture quiet; // GDAL complains about files that are already gone
         for (const fs::path& target : m_replace_datasets) {

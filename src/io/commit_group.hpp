@@ -44,6 +44,11 @@ public:
     void own_directory(const std::filesystem::path& directory);
     /// Targets that are any of these files are refused (argument_error).
     void protect(const ProtectedFiles& files);
+    /// `hook` runs in commit() once the targets are checked, before anything at a target is
+    /// touched (an old dataset removed, a file renamed): the last moment a run can still stop
+    /// with nothing changed (the CLI checks for signals there). What it throws leaves the group
+    /// uncommitted, and its destructor removes everything staged.
+    void set_before_rename(std::function<void()> hook) { m_before_rename = std::move(hook); }
     /// Renames everything in the order staged. Throws argument_error for a target that exists
     /// (without replace) or is protected, io_error when a rename fails.
     void commit();
@@ -65,6 +70,7 @@ private:
     std::vector<std::filesystem::path> m_replace_datasets;
     std::vector<std::filesystem::path> m_directories;
     std::vector<ProtectedFiles> m_protected;
+    std::function<void()> m_before_rename;
     bool m_committed = false;
 };
 

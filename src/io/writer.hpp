@@ -89,6 +89,10 @@ public:
     /// renames them into place (or stages them in options.commit_group). Throws io_error, and
     /// argument_error when OUT appeared meanwhile without --overwrite.
     void commit();
+    /// After commit(): OUT is where it belongs already (streamed to stdout, its transaction
+    /// committed in an existing OUT, or renamed without a commit group), so nothing can take it
+    /// back; false while its files wait in options.commit_group for the group's commit().
+    bool output_in_place() const { return m_committed && (m_streamed || m_in_place || m_options.commit_group == nullptr); }
 
     /// Problems 903 (values the format changed) and 904 (renamed fields) found so far, each
     /// with its layer's index in Problem::layer.

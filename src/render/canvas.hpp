@@ -42,8 +42,8 @@ public:
     virtual void rect(const Box& px, const Style& style, const char* cls) = 0;
     /// ASCII text, `size` = integer scale (1: 6 px per character, 7 px capitals); y = baseline.
     virtual void text(XY at, const std::string& text, int size, Rgba colour, Anchor anchor) = 0;
-    /// Writes the file; throws io_error.
-    virtual void save(const std::string& path) = 0;
+    /// The picture file's bytes (SVG text, PNG); throws io_error naming `path` (the picture to be).
+    virtual std::string encode(const std::string& path) = 0;
 
     static double text_width(const std::string& text, int size) { return 6.0 * size * static_cast<double>(text.size()); }
 

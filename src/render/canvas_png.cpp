@@ -7,11 +7,13 @@
 #include "io/io_error.hpp"
 #include "render/font.hpp"
 
+#include <cpl_vsi.h>
 #include <gdal_priv.h>
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 
 namespace trisnap::render {
 namespace {
@@ -146,7 +148,7 @@ public:
         }
     }
 
-    void save(const std::string& path) override;
+    std::string encode(const std::string& path) override;
 
 private:
     void blend(int x, int y, Rgba c, double coverage)
@@ -280,7 +282,8 @@ std::string gdal_message(const ScopedErrorCapture& capture, const std::string& f
     return message;
 }
 
-void RasterCanvas::save(const std::string& path)
+// PNG through GDAL into memory (/vsimem/): the file itself is written by the caller, atomically.
+std::string RasterCanvas::encode(const std::string& path)
 {
     ScopedErrorCapture capture;
     GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("MEM");
@@ -297,10 +300,18 @@ void RasterCanvas::save(const std::string& path)
     if (err != CE_None) {
         throw io_error(path, "", gdal_message(capture, "cannot fill the image"));
     }
-    GDALDatasetUniquePtr written(png->CreateCopy(path.c_str(), image.get(), FALSE, nullptr, nullptr, nullptr));
+    const std::string memory = "/vsimem/trisnap_render_" + std::to_string(reinterpret_cast<std::uintptr_t>(this)) + ".png";
+    GDALDatasetUniquePtr written(png->CreateCopy(memory.c_str(), image.get(), FALSE, nullptr, nullptr, nullptr));
     if (!written) {
-        throw io_error(path, "", gdal_message(capture, "cannot write the PNG"));
+        VSIUnlink(memory.c_str());
+        throw io_error(path, "", gdal_message(capture, "cannot encode the PNG"));
     }
+    written.reset(); // the PNG is complete once its dataset is closed
+    vsi_l_offset size = 0;
+    GByte* data = VSIGetMemFileBuffer(memory.c_str(), &size, TRUE); // takes the buffer, removes the file
+    std::string bytes(reinterpret_cast<const char*>(data), static_cast<std::size_t>(size));
+    CPLFree(data);
+    return bytes;
 }
 
 } // namespace

@@ -2,12 +2,9 @@
 // stay small and the same input gives the same bytes.
 #include "render/canvas.hpp"
 
-#include "io/io_error.hpp"
-
 #include <fmt/format.h>
 
 #include <cmath>
-#include <fstream>
 #include <optional>
 
 namespace trisnap::render {
@@ -133,14 +130,10 @@ public:
                               num(at.x), num(at.y), 10 * size, colour(c), a, escape(text));
     }
 
-    void save(const std::string& path) override
+    std::string encode(const std::string&) override
     {
         close_group();
-        std::ofstream file(path, std::ios::binary);
-        file << m_body << "</svg>\n";
-        if (!file) {
-            throw io_error(path, "", "cannot write the picture");
-        }
+        return m_body + "</svg>\n";
     }
 
 private:

@@ -1,6 +1,7 @@
 #include "render/layer_reader.hpp"
 
 #include "config/errors.hpp"
+#include "io/commit_group.hpp"
 #include "io/dataset.hpp"
 #include "io/tolerance.hpp"
 #include "render/scene.hpp"
@@ -95,17 +96,32 @@ std::optional<double> resolve_tolerance(const RenderOptions& o, OGRLayer& layer,
     return t;
 }
 
-assess::LayerPair read_data(const RenderOptions& o, Opened& in)
+assess::LayerPair read_data(const RenderOptions& o, Opened& in, Opened& out)
 {
     try {
-        if (o.snapped.empty()) {
+        if (!out.dataset) {
             return assess::read_single({*in.dataset, *in.layer}, o.key);
         }
-        Opened out = open_layer(o.snapped, o.layer_b, o.bbox);
         return assess::read_pair({*in.dataset, *in.layer}, {*out.dataset, *out.layer}, o.key);
     } catch (const std::invalid_argument& e) {
         throw argument_error(e.what());
     }
+}
+
+/// The files the picture must never replace; refuses -o when it is one of them (as `snap`
+/// refuses an OUT or a report that is a file of its input).
+ProtectedFiles protect_inputs(const RenderOptions& o, Opened& in, Opened& out)
+{
+    ProtectedFiles protect;
+    protect.add_dataset(*in.dataset, "the input " + o.input);
+    if (out.dataset) {
+        protect.add_dataset(*out.dataset, "SNAPPED " + o.snapped);
+    }
+    if (!o.report.empty()) {
+        protect.add_file(o.report, "the report " + o.report);
+    }
+    check_text_file_target(o.output, protect, "-o");
+    return protect;
 }
 
 } // namespace
@@ -117,9 +133,11 @@ Inputs read_inputs(const RenderOptions& o)
         inputs.report = assess::read_snap_report(o.report);
     }
     Opened in = open_layer(o.input, o.layer_a, o.bbox);
+    Opened out = o.snapped.empty() ? Opened{} : open_layer(o.snapped, o.layer_b, o.bbox);
+    inputs.protect = protect_inputs(o, in, out);
     inputs.tolerance = resolve_tolerance(o, *in.layer, inputs.report);
     const CrsInfo crs = crs_info(in.layer->GetSpatialRef());
-    inputs.data = read_data(o, in);
+    inputs.data = read_data(o, in, out);
     inputs.in = layer_of(inputs.data.a, o.input, crs);
     if (!o.snapped.empty()) {
         inputs.out = layer_of(inputs.data.b, o.snapped, crs);

@@ -1,6 +1,7 @@
 #include "render/render.hpp"
 
 #include "config/errors.hpp"
+#include "io/commit_group.hpp"
 #include "io/io_error.hpp"
 #include "render/canvas.hpp"
 #include "render/layer_reader.hpp"
@@ -177,7 +178,7 @@ void render_overview(const RenderOptions& o, const Inputs& in, const std::vector
     label_sites(*canvas, view, result);
     finish_map(*canvas, view, in.in.crs);
     draw_legend_row(*canvas, result, in, false);
-    canvas->save(o.output);
+    write_text_file_atomically(o.output, canvas->encode(o.output), in.protect, "-o");
 }
 
 void draw_panel_title(Canvas& canvas, XY at, const Site& s, std::size_t rank, double t)
@@ -227,7 +228,7 @@ void render_panels(const RenderOptions& o, const Inputs& in, const std::vector<S
         draw_panel(*canvas, in, problems, s, Box{x0, y0 + k_panel_title, x0 + side, y0 + k_panel_title + side});
     }
     draw_legend_row(*canvas, result, in, true);
-    canvas->save(o.output);
+    write_text_file_atomically(o.output, canvas->encode(o.output), in.protect, "-o");
 }
 
 } // namespace

@@ -99,7 +99,9 @@ TEST(AssessCli, ErrorsAreOneLineWithTheRightCode)
     expect({in, in, "--tolerance", "1", "--layer-b", "nope"}, 2, "nope");
     expect({in, in, "--tolerance", "1", "--key", "nope"}, 2, "nope");
     expect({in, dir.path("absent.gpkg"), "--tolerance", "1"}, 1, "absent.gpkg");
-    expect({in, in, "--tolerance", "1", "--json", dir.path("no/such/dir/r.json")}, 1, "r.json");
+    // A --json path that cannot name a file is refused before measuring, as snap's --report is.
+    expect({in, in, "--tolerance", "1", "--json", dir.path("no/such/dir/r.json")}, 2, "r.json");
+    expect({in, in, "--tolerance", "1", "--json", in}, 2, "is a file of ORIGINAL");
 }
 
 TEST(AssessCli, TrisnapOutputOnACoverageHasNoDefects)

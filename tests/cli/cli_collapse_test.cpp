@@ -201,3 +201,38 @@ TEST_F(CliCollapse, TheReadmeFirstExampleWorksOnTheBundledSample)
 
 } // namespace
 } // namespace trisnap::test
+
+namespace trisnap::test {
+namespace {
+
+TEST_F(CliCollapse, RejectionsAreNamedAsSuchNotAsCollapses)
+{
+    // Features the engine rejects (109: a coordinate too large for the tolerance) were counted
+    // and named as collapses, with advice about the tolerance's unit or size that could not help:
+    // at t = 1e-12 the guard said "give a smaller one". They still count towards the share of
+    // the layer lost, named as rejections, with what the engine takes.
+    const std::string out = dir.path("out.gpkg");
+    RunOutput r = run_trisnap(dir, {"snap", parcels(0), out, "--tolerance", "1e-12"});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("snapping would drop 19 of 20 features (rejected: a coordinate too large for the tolerance "
+                         "at double precision, problem 109); coordinates beyond 17.5922 cannot be snapped"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.err.find("collapsed"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("smaller"), std::string::npos) << r.err;
+    EXPECT_FALSE(exists(out));
+    // A degree tolerance above 0.001 stops a run for any collapse (metres typed as degrees), but a
+    // rejection says nothing about the unit: one feature with a huge coordinate among 20 goes
+    // through, reported, and the summary names it.
+    const std::string in = dir.path("geo.gpkg");
+    write_fixture(in, "GPKG", "parcels", 4326, wkbPolygon,
+                  squares(20, 1.5, 42.5, 0.1, 0.2) + squares(1, 1e12, 42.5, 0.1, 0.2));
+    r = run_trisnap(dir, {"snap", in, out, "--tolerance", "0.002", "--report", dir.path("r.json")});
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("1 dropped by the engine, 1 of them rejected (109 huge coordinate)"), std::string::npos) << r.out;
+    EXPECT_EQ(read_json(dir.path("r.json"))["problems_by_code"]["109"]["count"], 1);
+    EXPECT_EQ(read_layer(out).size(), 20u);
+}
+
+} // namespace
+} // namespace trisnap::test

@@ -57,6 +57,23 @@ RunOutput run_trisnap_limited(const TempDir& dir, const std::vector<std::string>
 pid_t spawn_trisnap(const TempDir& dir, const std::vector<std::string>& args, const Limits& limits = {});
 RunOutput wait_trisnap(const TempDir& dir, pid_t pid);
 
+/// Waits until `pid` (spawned by spawn_trisnap) has stopped itself (SIGSTOP); false when it
+/// ended instead (then wait_trisnap() must not be called: its status is gone).
+bool wait_until_stopped(pid_t pid);
+
+/// An environment variable set for the runs started while it lives (the children inherit it),
+/// unset at the end: the test hooks TRISNAP_TEST_RAISE and TRISNAP_FAIL_TILES.
+class ScopedEnv {
+public:
+    ScopedEnv(const std::string& name, const std::string& value);
+    ~ScopedEnv();
+    ScopedEnv(const ScopedEnv&) = delete;
+    ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+private:
+    std::string m_name;
+};
+
 /// Names in `dir` that contain ".trisnap-tmp" (temporary files or directories left behind).
 std::vector<std::string> leftovers(const std::string& dir);
 
@@ -103,7 +120,8 @@ std::vector<ReadFeature> read_layer(const std::string& path, const std::string& 
 /// The report file as JSON.
 nlohmann::json read_json(const std::string& path);
 
-/// The FIDs of features reported in `report` that are not in `output` (by FID or orig_fid).
+/// The FIDs of features missing from `output` (by FID or orig_fid) that `report` excuses: only
+/// a problem whose code means "not written" (problem_codes.hpp) excuses a missing feature.
 std::vector<std::int64_t> missing_but_reported(const nlohmann::json& report, const std::vector<ReadFeature>& output);
 
 /// Bytes of a file, for determinism checks.

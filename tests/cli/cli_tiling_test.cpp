@@ -169,6 +169,7 @@ TEST_F(CliOnError, DefaultStopsWithOneLineNamingTheTileAndLeavesNothing)
     EXPECT_EQ(r.code, 1);
     ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
     EXPECT_NE(r.err.find("tile " + std::to_string(tile) + " (core "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(" features: FIDs "), std::string::npos) << "the line names the tile's features" << r.err;
     EXPECT_NE(r.err.find("injected failure"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("--on-error skip"), std::string::npos) << r.err;
     EXPECT_FALSE(exists(out));
@@ -190,7 +191,12 @@ TEST_F(CliOnError, SkipReportsEveryDroppedFeatureAndWritesTheRestUnchanged)
     for (const auto& p : report["problems"]) {
         if (p["code"].get<int>() == 303) {
             EXPECT_TRUE(dropped.insert(p["fid"].get<std::int64_t>()).second);
-            EXPECT_NE(p["message"].get<std::string>().find("injected failure"), std::string::npos);
+            const std::string message = p["message"].get<std::string>();
+            EXPECT_NE(message.find("tile " + std::to_string(tile) + " ("), std::string::npos) << message;
+            EXPECT_NE(message.find(" features: FIDs "), std::string::npos) << message;
+            EXPECT_NE(message.find("failed alone and merged with its neighbours (injected failure"), std::string::npos)
+                << message;
+            EXPECT_NE(message.find("and untiled in its region (injected failure"), std::string::npos) << message;
         }
     }
     EXPECT_EQ(dropped.size(), failed);
@@ -223,6 +229,34 @@ TEST_F(CliOnError, SkipReportsEveryDroppedFeatureAndWritesTheRestUnchanged)
     r = run_trisnap(dir, with_options({"snap", andorra(), dir.path("bad.gpkg"), "--on-error", "ignore"}));
     EXPECT_EQ(r.code, 2);
     EXPECT_NE(r.err.find("--on-error"), std::string::npos) << r.err;
+}
+
+TEST_F(CliOnError, SkipRetriesTheTileUntiledInItsRegionBeforeDroppingAnything)
+{
+    // A tile that fails whenever its features are cut, alone and merged with its neighbours,
+    // used to lose its features (303). Its last try snaps its region with every feature given
+    // whole, as an untiled run sees it: nothing is lost, and the output is the run's without a
+    // failure.
+    ::setenv("TRISNAP_FAIL_TILES", (std::to_string(tile) + "/cut").c_str(), 1);
+    const std::string out = dir.path("whole.gpkg");
+    RunOutput r = run_trisnap(dir, with_options({"snap", andorra(), out}));
+    ASSERT_EQ(r.code, 1) << "the tile fails as it is cut: " << r.err;
+    r = run_trisnap(dir, with_options({"snap", andorra(), out, "-q", "--on-error", "skip", "--report", out + ".json"}));
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto report = read_json(out + ".json");
+    EXPECT_EQ(report["tiling"]["tiles_failed"].get<std::size_t>(), 0u);
+    EXPECT_EQ(report["tiling"]["failed_features"].get<std::size_t>(), 0u);
+    EXPECT_FALSE(report["problems_by_code"].contains("303")) << report["problems_by_code"].dump();
+    // The tile went through on its own (split back from the merged try that failed), not merged.
+    bool found = false;
+    for (const auto& t : report["tiling"]["list"]) {
+        if (t["id"].get<std::size_t>() == tile) {
+            found = true;
+            EXPECT_EQ(t["leaves"].get<std::size_t>(), 1u) << t.dump();
+        }
+    }
+    EXPECT_TRUE(found) << "tile " << tile << " is not in the report's list";
+    EXPECT_EQ(file_bytes(out), file_bytes(plain));
 }
 
 } // namespace

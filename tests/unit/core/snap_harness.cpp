@@ -63,14 +63,6 @@ std::vector<int> code_numbers(std::initializer_list<ProblemCode> codes) {
     return out;
 }
 
-const std::vector<int>& not_written_codes() {
-    static const std::vector<int> codes = code_numbers(
-        {ProblemCode::non_finite_coordinate, ProblemCode::empty_geometry, ProblemCode::unsupported_geometry,
-         ProblemCode::huge_coordinate, ProblemCode::collapsed_polygon, ProblemCode::collapsed_line,
-         ProblemCode::tile_failed, ProblemCode::unreadable_feature, ProblemCode::unwritable_feature});
-    return codes;
-}
-
 const std::vector<int>& drift_codes() {
     static const std::vector<int> codes = code_numbers(
         {ProblemCode::self_intersection, ProblemCode::collapsed_polygon, ProblemCode::collapsed_line,

@@ -3,6 +3,7 @@
 // contract checker, and keep both so a test can look further. Shared by unit_core,
 // golden_cases and real_data.
 #include "contract_checker.hpp"
+#include "problem_codes.hpp" // not_written_codes()
 #include "core/geometry.hpp"
 #include "core/snap.hpp"
 
@@ -12,12 +13,6 @@
 #include <vector>
 
 namespace trisnap {
-
-/// Problem codes that mean "this feature is not in the output" (README "What you get"):
-/// rejected on input (106 non-finite, 107 empty, 108 unsupported type, 109 huge coordinate),
-/// collapsed entirely (201, 202), or not read or written by the driver (901, 902). No other
-/// code may excuse a missing feature: 102 (repeated points removed) says the feature stays.
-const std::vector<int>& not_written_codes();
 
 /// Problem codes after which a feature may legitimately drift further than 2t and lose shared
 /// boundaries (part of it collapsed or was repaired): 105, 201-204, 206, 209.

@@ -1,0 +1,145 @@
+// The gaps an audit of issue 14 ("a GIS analyst's first hour") found: output formats that undo
+// the snap or reproject after it are refused; the collapse guard's pre-check runs before any
+// snapping in `snap` too; progress counts say what they count; validate reads an .osm.pbf as
+// snap does; several layers of one .osm.pbf; hints for ogr2ogr options trisnap does not take;
+// --layer for assess and render, and footers that name only a command's own options.
+#include "cli_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <set>
+
+namespace trisnap::test {
+namespace {
+
+std::string sample()
+{
+    return std::string(TRISNAP_CONFIGS_DIR) + "/../data/delft_partition_sample.gpkg";
+}
+
+/// `n` squares of side `size` degrees near Andorra (EPSG:4326), 0.001 degrees apart.
+std::string wgs84_squares(const TempDir& dir, int n, double size)
+{
+    std::vector<FixtureFeature> features;
+    for (int i = 0; i < n; ++i) {
+        const double x = 1.5 + i * 0.001;
+        const double y = 42.5;
+        char wkt[256];
+        std::snprintf(wkt, sizeof wkt, "POLYGON ((%.9f %.9f,%.9f %.9f,%.9f %.9f,%.9f %.9f,%.9f %.9f))", x, y, x + size, y,
+                      x + size, y + size, x, y + size, x, y);
+        features.push_back({wkt, {{"id", std::to_string(i + 1)}}});
+    }
+    const std::string path = dir.path("wgs84.gpkg");
+    write_fixture(path, "GPKG", "squares", 4326, wkbPolygon, features);
+    return path;
+}
+
+/// The r/w/s flags `trisnap --formats` gives `driver` ("" when it is not listed).
+std::string format_flags(const std::string& formats, const std::string& driver)
+{
+    std::string name = driver;
+    name.resize(16, ' ');
+    const std::size_t at = formats.find("\n  " + name + " ");
+    return at == std::string::npos ? "" : formats.substr(at + 3 + name.size() + 1, 3);
+}
+
+/// The line of `text` that contains `part` ("" when none).
+std::string line_with(const std::string& text, const std::string& part)
+{
+    const std::size_t at = text.find(part);
+    if (at == std::string::npos) {
+        return "";
+    }
+    const std::size_t start = text.rfind('\n', at) == std::string::npos ? 0 : text.rfind('\n', at) + 1;
+    return text.substr(start, text.find('\n', at) - start);
+}
+
+class CliFirstHour : public ::testing::Test {
+protected:
+    TempDir dir;
+};
+
+TEST_F(CliFirstHour, VectorTileFormatsAreRefusedBeforeAnythingIsRead)
+{
+    // MBTiles and MVT wrote "260 written", exit 0, and no tile at all; tiles quantise coordinates anyway.
+    for (const std::string command : {"snap", "validate"}) {
+        expect_error(run_trisnap(dir, {command, sample(), dir.path("x.mbtiles"), "--tolerance", "0.01"}), 2,
+                     "x.mbtiles: the MBTiles format writes vector tiles: it quantises the coordinates");
+        expect_error(run_trisnap(dir, {command, sample(), dir.path("tiles"), "-f", "MVT", "--tolerance", "0.01"}), 2,
+                     "-f MVT: the MVT format writes vector tiles");
+        expect_error(run_trisnap(dir, {command, sample(), dir.path("x.mapml"), "-f", "MapML", "--tolerance", "0.01"}), 2,
+                     "the MapML format rounds the coordinates");
+        EXPECT_FALSE(exists(dir.path("x.mbtiles")));
+        EXPECT_FALSE(exists(dir.path("tiles")));
+    }
+}
+
+TEST_F(CliFirstHour, FormatsDoesNotAdvertiseRefusedWriters)
+{
+    const RunOutput r = run_trisnap(dir, {"--formats"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    for (const char* refused : {"MVT", "MBTiles", "MapML", "XLSX", "ODS", "Memory"}) {
+        const std::string flags = format_flags(r.out, refused);
+        ASSERT_EQ(flags.size(), 3u) << refused << " not listed:\n" << r.out;
+        EXPECT_EQ(flags[1], '-') << refused << " is advertised as writable: " << line_with(r.out, "  " + std::string(refused));
+    }
+    EXPECT_EQ(format_flags(r.out, "GPKG"), "rw-") << r.out;
+    for (const char* wgs84_only : {"KML", "LIBKML", "GPX", "GeoJSONSeq"}) {
+        EXPECT_EQ(format_flags(r.out, wgs84_only)[1], 'w') << wgs84_only;
+        EXPECT_NE(line_with(r.out, "\n  " + std::string(wgs84_only) + " ").find("[OUT for WGS84 layers only]"),
+                  std::string::npos) << wgs84_only << ":\n" << r.out;
+    }
+}
+
+TEST_F(CliFirstHour, FormatsThatStoreWgs84OnlyAreRefusedForOtherCrss)
+{
+    // The sample is in EPSG:28992: KML gave lon/lat, reprojected after snapping.
+    for (const std::string command : {"snap", "validate"}) {
+        const RunOutput kml = run_trisnap(dir, {command, sample(), dir.path("o.kml"), "-f", "KML", "--tolerance", "0.01"});
+        expect_error(kml, 2, "o.kml: the KML format stores WGS84 longitude/latitude only, and the layer is in EPSG:28992");
+        EXPECT_NE(kml.err.find("reproject before snapping (ogr2ogr -t_srs EPSG:4326)"), std::string::npos) << kml.err;
+        EXPECT_FALSE(exists(dir.path("o.kml")));
+        // .kml is LIBKML's extension first.
+        expect_error(run_trisnap(dir, {command, sample(), dir.path("o.kml"), "--tolerance", "0.01"}), 2,
+                     "o.kml: the LIBKML format stores WGS84 longitude/latitude only");
+        expect_error(run_trisnap(dir, {command, sample(), "-", "-f", "GeoJSONSeq", "--tolerance", "0.01"}), 2,
+                     "OUT - (stdout): the GeoJSONSeq format stores WGS84 longitude/latitude only");
+        expect_error(run_trisnap(dir, {command, sample(), dir.path("o.json"), "--lco", "RFC7946=YES", "--tolerance", "0.01"}),
+                     2, "the GeoJSON format with --lco RFC7946=YES writes WGS84 rounded to 7 decimals");
+    }
+    // GPX wrote metres as latitudes (a line layer, its fields as GPX extensions).
+    const std::string lines = dir.path("lines.gpkg");
+    write_fixture(lines, "GPKG", "roads", 3857, wkbLineString, {{"LINESTRING (0 0,100 0,100 50)", {{"id", "1"}}}});
+    expect_error(run_trisnap(dir, {"snap", lines, dir.path("o.gpx"), "--dsco", "GPX_USE_EXTENSIONS=YES", "--tolerance", "0.01"}),
+                 2, "o.gpx: the GPX format stores WGS84 longitude/latitude only, and the layer is in EPSG:3857");
+    EXPECT_FALSE(exists(dir.path("o.gpx")));
+}
+
+TEST_F(CliFirstHour, Wgs84LayersGoToKmlAndGeoJsonSeqWithEveryDigit)
+{
+    const std::string in = wgs84_squares(dir, 3, 0.000123456789);
+    RunOutput r = run_trisnap(dir, {"snap", in, dir.path("o.gpkg"), "--tolerance-m", "0.01", "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::vector<ReadFeature> reference = read_layer(dir.path("o.gpkg"));
+    ASSERT_EQ(reference.size(), 3u);
+    r = run_trisnap(dir, {"snap", in, dir.path("o.kml"), "--tolerance-m", "0.01", "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(read_layer(dir.path("o.kml")).size(), 3u);
+    // GeoJSONSeq rounded to 7 decimals by default, and gave no feature id.
+    r = run_trisnap(dir, {"snap", in, "-", "-f", "GeoJSONSeq", "--tolerance-m", "0.01", "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string copy = dir.path("copy.geojsonl");
+    std::ofstream(copy) << r.out;
+    const std::vector<ReadFeature> streamed = read_layer(copy);
+    ASSERT_EQ(streamed.size(), reference.size());
+    for (std::size_t i = 0; i < streamed.size(); ++i) {
+        EXPECT_EQ(streamed[i].wkt, reference[i].wkt);
+        EXPECT_EQ(streamed[i].fid, reference[i].fid);
+    }
+    EXPECT_NE(r.out.find("\"id\": 1,"), std::string::npos) << r.out.substr(0, 300);
+}
+
+} // namespace
+} // namespace trisnap::test

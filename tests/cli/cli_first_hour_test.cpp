@@ -19,6 +19,11 @@ std::string sample()
     return std::string(TRISNAP_CONFIGS_DIR) + "/../data/delft_partition_sample.gpkg";
 }
 
+std::string monaco_pbf()
+{
+    return data_dir() + "/osm_monaco_osrm_2020/monaco.osm.pbf";
+}
+
 /// `n` squares of side `size` degrees near Andorra (EPSG:4326), 0.001 degrees apart.
 std::string wgs84_squares(const TempDir& dir, int n, double size)
 {
@@ -34,6 +39,28 @@ std::string wgs84_squares(const TempDir& dir, int n, double size)
     const std::string path = dir.path("wgs84.gpkg");
     write_fixture(path, "GPKG", "squares", 4326, wkbPolygon, features);
     return path;
+}
+
+/// The --json-progress lines of a run, parsed.
+std::vector<nlohmann::json> progress_lines(const RunOutput& r)
+{
+    std::vector<nlohmann::json> lines;
+    for (const std::string& line : r.err_lines()) {
+        nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
+        if (!j.is_discarded() && j.contains("phase")) {
+            lines.push_back(std::move(j));
+        }
+    }
+    return lines;
+}
+
+std::set<std::string> phases_of(const RunOutput& r)
+{
+    std::set<std::string> phases;
+    for (const nlohmann::json& j : progress_lines(r)) {
+        phases.insert(j["phase"].get<std::string>());
+    }
+    return phases;
 }
 
 /// The r/w/s flags `trisnap --formats` gives `driver` ("" when it is not listed).
@@ -139,6 +166,76 @@ TEST_F(CliFirstHour, Wgs84LayersGoToKmlAndGeoJsonSeqWithEveryDigit)
         EXPECT_EQ(streamed[i].fid, reference[i].fid);
     }
     EXPECT_NE(r.out.find("\"id\": 1,"), std::string::npos) << r.out.substr(0, 300);
+}
+
+TEST_F(CliFirstHour, SnapStopsOnThePreCheckBeforeSnapping)
+{
+    // 20 buildings of ~11 m at --tolerance 0.01 (degrees): the pre-check stops it after the read.
+    const std::string in = wgs84_squares(dir, 20, 0.0001);
+    const RunOutput r = run_trisnap(dir, {"snap", in, dir.path("o.gpkg"), "--tolerance", "0.01", "--json-progress",
+                                          "--progress", "never"});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("trisnap: error: " + in + " (layer 'squares'): at least 20 of 20 features are smaller than "
+                         "the tolerance: snapping would drop them"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("you probably meant --tolerance-m 0.01"), std::string::npos) << r.err;
+    EXPECT_EQ(phases_of(r), std::set<std::string>{"plan"}) << "a phase after the read ran:\n" << r.err;
+    EXPECT_FALSE(exists(dir.path("o.gpkg")));
+    // To stdout: not even the stream's header is out.
+    const RunOutput streamed = run_trisnap(dir, {"snap", in, "-", "--tolerance", "0.01"});
+    EXPECT_EQ(streamed.code, 2) << streamed.err;
+    EXPECT_EQ(streamed.out, "");
+}
+
+TEST_F(CliFirstHour, AndorraAtOneHundredthOfADegreeStopsBeforeSnapping)
+{
+    // It snapped for 115 s before the guard stopped it; validate stopped the same case at once.
+    const std::string in = data_dir() + "/snapoly_andorra/andorra.gpkg";
+    if (!exists(in)) {
+        GTEST_SKIP() << "data set absent: " << in;
+    }
+    const RunOutput r = run_trisnap(dir, {"snap", in, dir.path("o.gpkg"), "--tolerance", "0.01", "--json-progress",
+                                          "--progress", "never"});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("features are smaller than the tolerance: snapping would drop them"), std::string::npos) << r.err;
+    EXPECT_EQ(phases_of(r).count("snap"), 0u) << r.err;
+    EXPECT_EQ(phases_of(r).count("spool"), 0u) << r.err;
+    const RunOutput v = run_trisnap(dir, {"validate", in, dir.path("o.gpkg"), "--tolerance", "0.01"});
+    EXPECT_EQ(v.code, 2) << v.err;
+    EXPECT_EQ(line_with(v.err, "trisnap: error:"), line_with(r.err, "trisnap: error:")) << "one pre-check, one message";
+}
+
+TEST_F(CliFirstHour, ValidateReadsAnOsmFileAsSnapDoes)
+{
+    const std::string in = monaco_pbf();
+    if (!exists(in)) {
+        GTEST_SKIP() << "data set absent: " << in;
+    }
+    // validate said "ok" here, and snap exited 1.
+    for (const std::string command : {"validate", "snap"}) {
+        expect_error(run_trisnap(dir, {command, in, dir.path("o.gpkg"), "--layer", "multipolygons", "--tolerance-m",
+                                       "0.05", "--where", "1=0"}),
+                     1, "no feature matches --where/--bbox: nothing to snap");
+    }
+    // A tolerance that collapses every feature (1 degree): validate said "ok".
+    const RunOutput v = run_trisnap(dir, {"validate", in, dir.path("o.gpkg"), "--layer", "multipolygons", "--tolerance", "1"});
+    EXPECT_EQ(v.code, 2) << v.err;
+    EXPECT_NE(v.err.find("features are smaller than the tolerance"), std::string::npos) << v.err;
+    const RunOutput s = run_trisnap(dir, {"snap", in, dir.path("o.gpkg"), "--layer", "multipolygons", "--tolerance", "1",
+                                          "--json-progress", "--progress", "never"});
+    EXPECT_EQ(s.code, 2) << s.err;
+    EXPECT_EQ(phases_of(s), std::set<std::string>{"plan"}) << s.err;
+    // The counts are read, not guessed from the file's size.
+    const RunOutput ok =
+        run_trisnap(dir, {"validate", in, dir.path("o.gpkg"), "--layer", "multipolygons", "--tolerance-m", "0.05"});
+    ASSERT_EQ(ok.code, 0) << ok.err;
+    EXPECT_EQ(ok.out.find("from the input's size"), std::string::npos) << ok.out;
+    EXPECT_EQ(ok.out.find("features unknown until read"), std::string::npos) << ok.out;
+    const RunOutput run = run_trisnap(dir, {"snap", in, dir.path("o.gpkg"), "--layer", "multipolygons", "--tolerance-m",
+                                            "0.05", "--report", dir.path("r.json"), "-q"});
+    ASSERT_EQ(run.code, 0) << run.err;
+    const nlohmann::json counts = read_json(dir.path("r.json"))["counts"];
+    EXPECT_NE(ok.out.find(", " + std::to_string(counts["input"].get<int>()) + " features, CRS"), std::string::npos)
+        << ok.out;
 }
 
 } // namespace

@@ -193,9 +193,10 @@ void RunPhases::open_tiles()
 
 void RunPhases::spool()
 {
-    auto on_pass = [&](std::uint64_t done, std::uint64_t) { m_progress.update(static_cast<std::int64_t>(done)); };
+    // Two passes over the features (reach boxes, buckets): counted as features, each pass half of one.
+    auto on_pass = [&](std::uint64_t done, std::uint64_t) { m_progress.update(static_cast<std::int64_t>(done / 2)); };
     phase("spool", [&] {
-        m_progress.start("spool", static_cast<std::int64_t>(2 * m_meta.spooled), "feature reads");
+        m_progress.start("spool", static_cast<std::int64_t>(m_meta.spooled), "features");
         guarded([&] { m_run->plan(m_meta, on_pass); });
         m_progress.finish();
     });
@@ -222,9 +223,12 @@ void RunPhases::snap(const std::function<bool(std::size_t)>& mine)
 
 void RunPhases::stitch()
 {
-    auto on_tiles = [&](std::uint64_t done, std::uint64_t) { m_progress.update(static_cast<std::int64_t>(done)); };
+    // Only tiles merged at a seam are snapped again; their vertices are known when the check finds them.
+    auto on_tiles = [&](std::uint64_t done, std::uint64_t total) {
+        m_progress.update(static_cast<std::int64_t>(done), static_cast<std::int64_t>(total));
+    };
     phase("stitch", [&] {
-        m_progress.start("stitch", -1, "vertices");
+        m_progress.start("stitch", -1, "vertices snapped again");
         guarded([&] { m_run->stitch(on_tiles); });
         m_progress.finish();
     });

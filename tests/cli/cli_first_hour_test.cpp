@@ -63,6 +63,17 @@ std::set<std::string> phases_of(const RunOutput& r)
     return phases;
 }
 
+/// The final --json-progress line of `phase`.
+nlohmann::json final_line(const RunOutput& r, const std::string& phase)
+{
+    for (const nlohmann::json& j : progress_lines(r)) {
+        if (j["phase"] == phase && j["finished"].get<bool>()) {
+            return j;
+        }
+    }
+    return {};
+}
+
 /// The r/w/s flags `trisnap --formats` gives `driver` ("" when it is not listed).
 std::string format_flags(const std::string& formats, const std::string& driver)
 {
@@ -202,6 +213,32 @@ TEST_F(CliFirstHour, AndorraAtOneHundredthOfADegreeStopsBeforeSnapping)
     const RunOutput v = run_trisnap(dir, {"validate", in, dir.path("o.gpkg"), "--tolerance", "0.01"});
     EXPECT_EQ(v.code, 2) << v.err;
     EXPECT_EQ(line_with(v.err, "trisnap: error:"), line_with(r.err, "trisnap: error:")) << "one pre-check, one message";
+}
+
+TEST_F(CliFirstHour, ProgressCountsWhatItSays)
+{
+    // --force on a total collapse: the write bar said 260/260 and 0 were written.
+    RunOutput r = run_trisnap(dir, {"snap", sample(), dir.path("o.gpkg"), "--tolerance", "1000", "--force",
+                                    "--json-progress", "--progress", "never", "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    nlohmann::json write = final_line(r, "write");
+    EXPECT_EQ(write["unit"], "features written") << write;
+    EXPECT_EQ(write["done"], 0) << write;
+    EXPECT_EQ(write["total"], 260) << write;
+    // The spool reads each feature twice: counted once (it said "520/520 feature reads").
+    const nlohmann::json spool = final_line(r, "spool");
+    EXPECT_EQ(spool["unit"], "features") << spool;
+    EXPECT_EQ(spool["total"], 260) << spool;
+    // The stitch phase snaps only what a seam check merges: it says so, and ends with a total.
+    const nlohmann::json stitch = final_line(r, "stitch");
+    EXPECT_EQ(stitch["unit"], "vertices snapped again") << stitch;
+    EXPECT_EQ(stitch["done"], stitch["total"]) << stitch;
+
+    r = run_trisnap(dir, {"snap", sample(), dir.path("p.gpkg"), "--tolerance", "0.01", "--json-progress", "--progress",
+                          "never", "--report", dir.path("p.json"), "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    write = final_line(r, "write");
+    EXPECT_EQ(write["done"], read_json(dir.path("p.json"))["counts"]["written"]) << write;
 }
 
 TEST_F(CliFirstHour, ValidateReadsAnOsmFileAsSnapDoes)

@@ -137,7 +137,7 @@ ReadSummary read_layer(Plan& plan, tiling::WorkStore& store, std::size_t sample_
         ReadTarget to{s, spool, *records, progress, interrupt, plan.tolerance};
         for (std::size_t k = 0; k < plan.layers.size(); ++k) {
             const IgnoredAttributes ignored(*plan.layers[k]);
-            LayerReader reader(*plan.dataset, *plan.layers[k]);
+            LayerReader reader(*plan.dataset, *plan.layers[k], plan.layers);
             if (k == 0) {
                 progress.start("plan", plan.feature_count >= 0 ? plan.feature_count : reader.count_hint());
             }
@@ -183,7 +183,7 @@ InputSurvey survey_input(Plan& plan)
     InputSurvey survey;
     for (OGRLayer* layer : plan.layers) {
         const IgnoredAttributes ignored(*layer);
-        LayerReader reader(*plan.dataset, *layer);
+        LayerReader reader(*plan.dataset, *layer, plan.layers);
         std::size_t& features = survey.features.emplace_back(0);
         for (OGRFeatureUniquePtr f = reader.next_raw(); f; f = reader.next_raw()) {
             ++features;

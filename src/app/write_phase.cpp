@@ -142,7 +142,7 @@ void Writer::feature(std::uint32_t k, std::size_t seq, const RecordEntry& e, OGR
 std::size_t write_features(Plan& plan, std::uint32_t k, std::size_t count, std::size_t seq, RecordLog& log,
                            Writer& w, Progress& progress, const InterruptGuard& interrupt)
 {
-    LayerReader reader(*plan.dataset, *plan.layers[k]);
+    LayerReader reader(*plan.dataset, *plan.layers[k], plan.layers);
     RecordEntry e;
     for (std::size_t i = 0; i < count; ++i, ++seq) {
         if (!log.next(e)) {

@@ -275,5 +275,31 @@ TEST_F(CliFirstHour, ValidateReadsAnOsmFileAsSnapDoes)
         << ok.out;
 }
 
+TEST_F(CliFirstHour, SeveralLayersOfAnOsmFile)
+{
+    const std::string in = monaco_pbf();
+    if (!exists(in)) {
+        GTEST_SKIP() << "data set absent: " << in;
+    }
+    const std::string out = dir.path("monaco.gpkg");
+    const RunOutput r = run_trisnap(dir, {"snap", in, out, "--layer", "multipolygons", "--layer", "lines",
+                                          "--tolerance-m", "0.05", "--report", dir.path("r.json"), "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    const nlohmann::json j = read_json(dir.path("r.json"));
+    ASSERT_EQ(j["layers"].size(), 2u) << j.dump(1);
+    // Each layer read whole, as a run of that layer alone reads it.
+    for (const std::string layer : {"multipolygons", "lines"}) {
+        const RunOutput alone = run_trisnap(dir, {"snap", in, dir.path(layer + ".gpkg"), "--layer", layer,
+                                                  "--tolerance-m", "0.05", "--report", dir.path(layer + ".json"), "-q"});
+        ASSERT_EQ(alone.code, 0) << alone.err;
+        const nlohmann::json one = read_json(dir.path(layer + ".json"));
+        const nlohmann::json& both = j["layers"][layer == "lines" ? 1 : 0];
+        EXPECT_EQ(both["counts"]["input"], one["counts"]["input"]) << layer;
+        EXPECT_GT(both["counts"]["input"].get<int>(), 100) << layer;
+        EXPECT_EQ(read_layer(out, layer).size(), both["counts"]["written"].get<std::size_t>()) << layer;
+    }
+}
+
 } // namespace
 } // namespace trisnap::test

@@ -301,5 +301,67 @@ TEST_F(CliFirstHour, SeveralLayersOfAnOsmFile)
     }
 }
 
+TEST_F(CliFirstHour, Ogr2ogrOptionsTrisnapDoesNotTakeSayWhatToDo)
+{
+    const std::string in = sample();
+    const std::string out = dir.path("o.gpkg");
+    auto error_for = [&](std::vector<std::string> extra) {
+        std::vector<std::string> args{"snap", in, out, "--tolerance", "0.01"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        return run_trisnap(dir, args);
+    };
+    for (const char* option : {"-t_srs", "-s_srs"}) {
+        expect_error(error_for({option, "EPSG:4326"}), 2,
+                     "unknown option " + std::string(option) + " for trisnap snap: trisnap does not reproject");
+    }
+    expect_error(error_for({"-a_srs", "EPSG:4326"}), 2, "trisnap does not assign a CRS");
+    expect_error(error_for({"-clipsrc", "0", "0", "1", "1"}), 2, "trisnap does not clip: --bbox (-spat)");
+    const RunOutput sql = error_for({"-sql", "SELECT * FROM x"});
+    expect_error(sql, 2, "trisnap reads a layer, not an SQL result: choose features with --where");
+    EXPECT_EQ(sql.err.find("-q?"), std::string::npos) << sql.err;
+    const RunOutput nlt = error_for({"-nlt", "MULTIPOLYGON"});
+    expect_error(nlt, 2, "trisnap keeps the input's geometry types");
+    EXPECT_EQ(nlt.err.find("--nln?"), std::string::npos) << nlt.err;
+    expect_error(run_trisnap(dir, {"snap", in, out, "--tol", "0.01"}), 2,
+                 "unknown option --tol for trisnap snap; did you mean --tolerance?");
+}
+
+TEST_F(CliFirstHour, AssessAndRenderTakeLayerForBothFiles)
+{
+    const std::string in = write_snapping_gpkg(dir);
+    const std::string out = dir.path("out.gpkg");
+    ASSERT_EQ(run_trisnap(dir, {"snap", in, out, "--tolerance", "0.01", "-q"}).code, 0);
+    RunOutput r = run_trisnap(dir, {"assess", in, out, "--layer", "parcels", "--tolerance", "0.01"});
+    EXPECT_EQ(r.code, 0) << r.err;
+    r = run_trisnap(dir, {"render", in, out, "--layer", "parcels", "-o", dir.path("p.svg")});
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(exists(dir.path("p.svg")));
+    expect_error(run_trisnap(dir, {"assess", in, out, "--layer", "parcels", "--layer-b", "parcels", "--tolerance", "0.01"}),
+                 2, "--layer parcels names the layer of both files; give it alone, or --layer-a and --layer-b");
+    // Named differently in the two files: --layer is ambiguous there, and the error says which file lacks it.
+    const std::string renamed = dir.path("renamed.gpkg");
+    ASSERT_EQ(run_trisnap(dir, {"snap", in, renamed, "--tolerance", "0.01", "-nln", "snapped", "-q"}).code, 0);
+    expect_error(run_trisnap(dir, {"assess", in, renamed, "--layer", "parcels", "--tolerance", "0.01"}), 2,
+                 "--layer parcels: SNAPPED " + renamed + " has no layer of that name (layers: snapped");
+    r = run_trisnap(dir, {"assess", in, renamed, "--layer-a", "parcels", "--layer-b", "snapped", "--tolerance", "0.01"});
+    EXPECT_EQ(r.code, 0) << r.err;
+}
+
+TEST_F(CliFirstHour, HelpFootersNameOnlyTheCommandsOwnOptions)
+{
+    for (const std::string command : {"assess", "render", "info", "problems"}) {
+        const RunOutput r = run_trisnap(dir, {command, "--help"});
+        ASSERT_EQ(r.code, 0) << r.err;
+        for (const char* foreign : {"-nln", "--strict", "-skipfailures", "--settings"}) {
+            const std::string footer = r.out.substr(r.out.find("--config KEY VALUE"));
+            EXPECT_EQ(footer.find(foreign), std::string::npos) << command << " --help footer mentions " << foreign
+                                                               << ":\n" << footer;
+        }
+    }
+    const RunOutput snap = run_trisnap(dir, {"snap", "--help"});
+    EXPECT_NE(snap.out.find("-nln, -lco, -dsco"), std::string::npos) << snap.out;
+    EXPECT_NE(snap.out.find("--strict was given"), std::string::npos) << snap.out;
+}
+
 } // namespace
 } // namespace trisnap::test

@@ -61,7 +61,7 @@ double resolve_tolerance(const Config& config, OGRLayer& layer, std::string& not
         note = "degrees";
     }
     if (degrees_above_warning(t, false, srs)) {
-        spdlog::warn("{}", degree_warning(t));
+        spdlog::warn("{}", degree_warning(t, layer));
     }
     return t;
 }

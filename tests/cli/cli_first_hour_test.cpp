@@ -363,5 +363,18 @@ TEST_F(CliFirstHour, HelpFootersNameOnlyTheCommandsOwnOptions)
     EXPECT_NE(snap.out.find("--strict was given"), std::string::npos) << snap.out;
 }
 
+TEST_F(CliFirstHour, TheWarningAndTheGuardGiveOneFigureForDegrees)
+{
+    // The warning said ">= 1.1e+03 m" and the guard "about 820 m here" for the same 0.01 degrees.
+    const RunOutput r = run_trisnap(dir, {"snap", wgs84_squares(dir, 20, 0.0001), dir.path("o.gpkg"), "--tolerance", "0.01"});
+    EXPECT_EQ(r.code, 2) << r.err;
+    const std::vector<std::string> lines = r.err_lines();
+    ASSERT_EQ(lines.size(), 2u) << r.err;
+    const std::string figure = "(0.01 degrees, about 821 m here)";
+    EXPECT_NE(lines[0].find("trisnap: warning: --tolerance 0.01 is in degrees on this geographic CRS " + figure),
+              std::string::npos) << lines[0];
+    EXPECT_NE(lines[1].find(figure), std::string::npos) << lines[1];
+}
+
 } // namespace
 } // namespace trisnap::test

@@ -2,6 +2,7 @@
 
 #include "app/build_id.hpp"
 #include "app/version.hpp"
+#include "io/format_limits.hpp"
 #include "io/output_driver.hpp"
 
 #include <fmt/format.h>
@@ -39,7 +40,9 @@ std::string proj_version()
 std::string driver_line(GDALDriver& driver)
 {
     const bool reads = driver.GetMetadataItem(GDAL_DCAP_OPEN) != nullptr;
-    const bool writes = can_write_vector(driver);
+    // Refused formats (io/format_limits.hpp) are not advertised as OUT; conditional ones say when.
+    const bool writes = can_write_vector(driver) && format_refusal(driver).empty();
+    const std::string condition = writes ? format_condition(driver) : "";
     const char* name = driver.GetMetadataItem(GDAL_DMD_LONGNAME);
     const char* extensions = driver.GetMetadataItem(GDAL_DMD_EXTENSIONS);
     std::string ext;
@@ -50,8 +53,9 @@ std::string driver_line(GDALDriver& driver)
     if (!ext.empty()) {
         ext += ")";
     }
-    return fmt::format("  {:<16} {}{}{}  {}{}\n", driver.GetDescription(), reads ? 'r' : '-', writes ? 'w' : '-',
-                       writes && can_stream(driver) ? 's' : '-', name ? name : "", ext);
+    return fmt::format("  {:<16} {}{}{}  {}{}{}\n", driver.GetDescription(), reads ? 'r' : '-', writes ? 'w' : '-',
+                       writes && can_stream(driver) ? 's' : '-', name ? name : "", ext,
+                       condition.empty() ? "" : " [" + condition + "]");
 }
 
 /// A flag that prints `text()` and ends the parse like --help does.

@@ -1,8 +1,9 @@
-// `trisnap assess ORIGINAL SNAPPED (--tolerance T | --tolerance-m M) [--layer-a A] [--layer-b B]
+// `trisnap assess ORIGINAL SNAPPED (--tolerance T | --tolerance-m M) [--layer L | --layer-a A --layer-b B]
 // [--key FIELD] [--report SNAP_REPORT.json] [--json FILE] [--fail-on-defects]`: measures a
 // snapped layer against its original (any two OGR layers, so GEOS or CGAL output too); a table
 // on stdout, the full report as JSON on request.
 #include "app/command.hpp"
+#include "app/layer_choice.hpp"
 #include "assess/assess.hpp"
 #include "assess/snap_report.hpp"
 #include "config/errors.hpp"
@@ -28,8 +29,7 @@ public:
         app->add_option("SNAPPED", m_snapped, "the layer after snapping, by any tool")->required();
         app->add_option("--tolerance", m_tolerance, "the snapping tolerance T, in layer units");
         app->add_option("--tolerance-m", m_tolerance_m, "T in metres, converted on ORIGINAL as `snap` converts it");
-        app->add_option("--layer-a", m_layer_a, "layer of ORIGINAL (default: its only polygon/line layer)");
-        app->add_option("--layer-b", m_layer_b, "layer of SNAPPED (default: its only polygon/line layer)");
+        add_layer_choice_options(*app, m_layers, "ORIGINAL", "SNAPPED");
         app->add_option("--key", m_key, "match features by this field instead of by FID");
         app->add_option("--report", m_report, "the `trisnap snap --report` JSON of this run: the defects it explains are excused");
         app->add_option("--json", m_json, "write the full report, with examples, as JSON");
@@ -40,10 +40,11 @@ public:
     int run() override
     {
         setup_logging(0, 0);
+        resolve_layer_choice(m_layers, m_original, m_snapped);
         GDALDatasetUniquePtr original = open_input(m_original);
         GDALDatasetUniquePtr snapped = open_input(m_snapped);
-        OGRLayer& a = select_layer(*original, m_original, m_layer_a);
-        OGRLayer& b = select_layer(*snapped, m_snapped, m_layer_b);
+        OGRLayer& a = select_layer(*original, m_original, m_layers.layer_a);
+        OGRLayer& b = select_layer(*snapped, m_snapped, m_layers.layer_b);
         const ProtectedFiles protect = protect_inputs(*original, *snapped);
         const std::optional<assess::SnapReport> report = read_report();
         AssessOptions options{tolerance(a, report), m_key, 20};
@@ -103,7 +104,8 @@ private:
         return protect;
     }
 
-    std::string m_original, m_snapped, m_layer_a, m_layer_b, m_key, m_json, m_report;
+    std::string m_original, m_snapped, m_key, m_json, m_report;
+    LayerChoice m_layers;
     std::optional<double> m_tolerance;
     std::optional<double> m_tolerance_m;
     bool m_fail_on_defects = false;

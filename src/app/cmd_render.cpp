@@ -2,6 +2,7 @@
 // --tolerance-m M] [--report REPORT.json]`: a picture of what snapping did (src/render), with
 // the sites `trisnap assess` finds. setup() only parses; checks that need no I/O run first.
 #include "app/command.hpp"
+#include "app/layer_choice.hpp"
 #include "app/options.hpp"
 #include "config/errors.hpp"
 #include "render/render.hpp"
@@ -25,8 +26,7 @@ public:
         app->add_option("--worst", m_worst, "one zoomed panel for each of the N worst sites (needs a tolerance)");
         app->add_option("--tolerance", m_options.tolerance, "T in layer units: the sites are measured and ranked against it");
         app->add_option("--tolerance-m", m_options.tolerance_m, "T in metres, converted on IN as `snap` converts it");
-        app->add_option("--layer-a", m_options.layer_a, "layer of IN");
-        app->add_option("--layer-b", m_options.layer_b, "layer of SNAPPED");
+        add_layer_choice_options(*app, m_layers, "IN", "SNAPPED");
         app->add_option("--key", m_options.key, "match features by this field (default: orig_fid of SNAPPED, else FID)");
         app->add_option("--width", m_options.width, "picture width in pixels (default 1200)");
         app->add_option("--report,--problems", m_options.report,
@@ -36,6 +36,9 @@ public:
 
     int run() override
     {
+        resolve_layer_choice(m_layers, m_options.input, m_options.snapped);
+        m_options.layer_a = m_layers.layer_a;
+        m_options.layer_b = m_layers.layer_b;
         if (m_bbox) {
             const std::vector<double> b = parse_bbox(*m_bbox);
             m_options.bbox = render::Box{b[0], b[1], b[2], b[3]};
@@ -59,6 +62,7 @@ public:
 
 private:
     render::RenderOptions m_options;
+    LayerChoice m_layers;
     std::optional<std::string> m_bbox; ///< given (even empty) or not
     std::optional<double> m_tolerance;
     std::optional<int> m_worst;

@@ -1,12 +1,14 @@
 // `trisnap validate IN OUT ...`: the dry run. Opens the input, checks every option and the
-// output path, prints the plan, and writes nothing.
+// output path, reads the input once as snap's read phase does (also an .osm.pbf) and stops
+// where that phase would (nothing matches --where/--bbox, the collapse guard's pre-check), prints
+// the plan and the estimate, and writes nothing.
 #include "app/budget.hpp"
 #include "app/collapse_guard.hpp"
 #include "app/command.hpp"
 #include "app/estimate.hpp"
 #include "app/options.hpp"
+#include "app/phases.hpp"
 #include "app/plan.hpp"
-#include "io/layer_info.hpp"
 
 #include <fmt/format.h>
 
@@ -30,33 +32,34 @@ public:
         if (!resolved) return 0;
         const Config& config = *resolved;
         Plan plan = make_plan(m_args, config);
+        const InputSurvey survey = survey_input(plan);
+        check_read(plan, survey.total(), survey.smaller); // where snap's read phase would stop
+        count_features(plan, survey);
         print_plan(plan, std::cout);
-        print_estimate(plan, config);
+        print_estimate(plan, config, survey);
         print_budget(m_args, config);
-        predict_collapse(plan);
+        std::cout << fmt::format("collapse:  at least {} of {} features vanish (smaller than the tolerance)\n",
+                                 survey.smaller, survey.total());
         std::cout << "validate: ok, nothing written\n";
         return 0;
     }
 
 private:
-    /// The run's estimate (app/estimate.hpp) from the layer's vertices after the filters, as
-    /// `trisnap info` prints it. An .osm.pbf is not read (it would take the run's whole read):
-    /// its vertices are bounded from the file's size.
-    static void print_estimate(Plan& plan, const Config& config)
+    /// The counts the plan could not know without a read (OSM), as the read found them.
+    static void count_features(Plan& plan, const InputSurvey& survey)
     {
-        std::int64_t vertices = -1;
-        std::int64_t features = -1;
-        if (plan.feature_count >= 0) {
-            vertices = 0;
-            features = 0;
-            for (OGRLayer* layer : plan.layers) { // several layers are one engine run
-                const LayerInfo counted = scan_layers(*plan.dataset, layer).at(0);
-                vertices += counted.vertices;
-                features += counted.features;
-            }
-        }
+        plan.feature_counts.assign(survey.features.begin(), survey.features.end());
+        plan.feature_count = static_cast<std::int64_t>(survey.total());
+    }
+
+    /// The run's estimate (app/estimate.hpp) from the layers' vertices after the filters, as
+    /// `trisnap info` counts them (an .osm.pbf is read too, through the same reader as snap's).
+    static void print_estimate(Plan& plan, const Config& config, const InputSurvey& survey)
+    {
         const EstimateSettings settings = estimate_settings(config);
-        const RunEstimate e = estimate_run(estimate_input(plan.input_path, vertices, features), settings);
+        const RunEstimate e = estimate_run(estimate_input(plan.input_path, static_cast<std::int64_t>(survey.vertices),
+                                                          plan.feature_count),
+                                           settings);
         std::cout << fmt::format("estimate:  {}\n", describe_estimate(e, settings));
     }
 
@@ -67,23 +70,6 @@ private:
         const RunBudget b = choose_budget(args, config);
         std::cout << fmt::format("memory:    {} ({}; {} bytes before the input is opened)\n",
                                  b.on_disk ? "out of core" : "in memory", b.reason, b.estimate);
-    }
-
-    /// Features smaller than the tolerance vanish when snapped: a run the collapse guard would
-    /// stop fails here already (exit 2). Not for inputs whose count needs a full read (OSM).
-    static void predict_collapse(const Plan& plan)
-    {
-        if (plan.feature_count < 0) {
-            return;
-        }
-        std::size_t small = 0;
-        for (OGRLayer* layer : plan.layers) {
-            small += count_smaller_than(*layer, plan.tolerance);
-        }
-        const auto features = static_cast<std::size_t>(plan.feature_count);
-        check_collapse(plan, Drops{small, 0}, features, true);
-        std::cout << fmt::format("collapse:  at least {} of {} features vanish (smaller than the tolerance)\n",
-                                 small, features);
     }
 
     SnapArgs m_args;

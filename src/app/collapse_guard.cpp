@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace trisnap {
 namespace {
@@ -132,23 +133,25 @@ void guard_collapse(const Plan& plan, RunPhases& phases)
     check_collapse(plan, drops, phases.result().input);
 }
 
-std::size_t count_smaller_than(OGRLayer& layer, double tolerance)
+bool smaller_than_tolerance(const Geometry& g, double tolerance)
 {
-    std::size_t small = 0;
-    layer.ResetReading();
-    for (OGRFeatureUniquePtr f(layer.GetNextFeature()); f; f.reset(layer.GetNextFeature())) {
-        const OGRGeometry* g = f->GetGeometryRef();
-        if (g == nullptr || g->IsEmpty()) {
-            continue;
+    double xmin = std::numeric_limits<double>::infinity();
+    double ymin = xmin;
+    double xmax = -xmin;
+    double ymax = -xmin;
+    auto extend = [&](const Path& path) {
+        for (const Coord& c : path) {
+            xmin = std::min(xmin, c.x);
+            ymin = std::min(ymin, c.y);
+            xmax = std::max(xmax, c.x);
+            ymax = std::max(ymax, c.y);
         }
-        OGREnvelope e;
-        g->getEnvelope(&e);
-        if (std::hypot(e.MaxX - e.MinX, e.MaxY - e.MinY) < tolerance) {
-            ++small;
-        }
+    };
+    for (const Polygon& p : g.polygons) {
+        std::for_each(p.rings.begin(), p.rings.end(), extend);
     }
-    layer.ResetReading();
-    return small;
+    std::for_each(g.lines.begin(), g.lines.end(), extend);
+    return xmin <= xmax && std::hypot(xmax - xmin, ymax - ymin) < tolerance;
 }
 
 } // namespace trisnap

@@ -6,10 +6,16 @@
 // --force) is set, a run stops with argument_error (exit 2) when it would drop more than 10 % of
 // its features, or any feature when the tolerance is in degrees at or above the warning threshold
 // (io/tolerance.hpp), and the message says which tolerance was probably meant.
-// `snap` and `stitch` check the count at the end of the write phase, before OUT is committed
-// (its temporary is discarded, an updated GeoPackage's transaction rolled back); a streamed OUT
-// (stdout) cannot be taken back, so there the stitched features are counted in one extra pass
-// before the write phase. `validate` checks what it can predict from the envelopes.
+// Two checks, one rule:
+//  - before any snapping, the pre-check: a feature whose every two vertices are closer than the
+//    tolerance collapses whatever snapping does. `snap` (and `plan`) count them in the read
+//    phase and `validate` in the same read of the input (app/phases.hpp, check_read), so a
+//    tolerance in the wrong unit stops in the time of one read, not after the whole snap;
+//  - after snapping, for what the envelopes cannot predict (slivers, necks): `snap` and
+//    `stitch` count the features that vanished at the end of the write phase, before OUT is
+//    committed (its temporary is discarded, an updated GeoPackage's transaction rolled back);
+//    a streamed OUT (stdout) cannot be taken back, so there the stitched features are counted
+//    in one extra pass before the write phase.
 #include "app/plan.hpp"
 #include "app/run_phases.hpp"
 
@@ -52,9 +58,8 @@ std::set<std::pair<std::uint32_t, std::int64_t>> rejected_features(const Problem
 /// collapse, counts the features the write would drop and checks them (check_collapse).
 void guard_collapse(const Plan& plan, RunPhases& phases);
 
-/// Features whose envelope's diagonal is shorter than `tolerance`: every two of their vertices
-/// are closer than the tolerance, so snapping collapses them (a lower bound of what a run
-/// drops). Reads the layer's geometries once, honouring its filters.
-std::size_t count_smaller_than(OGRLayer& layer, double tolerance);
+/// True when the diagonal of `g`'s envelope is shorter than `tolerance`: every two of its
+/// vertices are closer than that, so snapping collapses it (the pre-check counts these).
+bool smaller_than_tolerance(const Geometry& g, double tolerance);
 
 } // namespace trisnap

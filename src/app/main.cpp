@@ -14,6 +14,7 @@
 #include <gdal_priv.h>
 
 #include <iostream>
+#include <string>
 
 namespace {
 
@@ -34,15 +35,39 @@ int run_command(trisnap::Command& command)
     }
 }
 
-} // namespace
+constexpr const char* k_gdal_config = "--config KEY VALUE sets a GDAL configuration option, as in GDAL's tools "
+                                      "(anywhere on the line)";
+constexpr const char* k_exit = "Exit status: 0 done, 1 processing or I/O error, 2 bad arguments or settings";
 
-const char* k_footer =
-    "--config KEY VALUE sets a GDAL configuration option, as in GDAL's tools (anywhere on the line); "
-    "--config FILE.toml is --settings FILE.toml.\n"
+const std::string k_footer =
+    std::string(k_gdal_config) + "; --config FILE.toml is --settings FILE.toml.\n"
     "ogr2ogr spellings work too: -nln, -lco, -dsco, -oo, -where, -spat xmin ymin xmax ymax, -select, "
     "-overwrite, -progress, -skipfailures.\n"
     "Exit status: 0 done (problems may have been reported), 1 processing or I/O error, "
     "2 bad arguments or settings, 3 problems were reported and --strict was given.";
+
+/// Each command's --help footer names only what it takes (CLI11 copies the root's footer into
+/// every subcommand: assess listed -nln and --strict, which it does not have).
+std::string footer_of(const std::string& command)
+{
+    if (command == "snap" || command == "validate") {
+        return k_footer;
+    }
+    if (command == "plan") {
+        return std::string(k_gdal_config) + "; --config FILE.toml is --settings FILE.toml.\n"
+               "ogr2ogr spellings work too: -oo, -where, -spat xmin ymin xmax ymax.\n" + k_exit + ".";
+    }
+    if (command == "stitch") {
+        return std::string(k_gdal_config) + ".\n" + k_exit + ", 3 problems were reported and --strict was given.";
+    }
+    if (command == "assess") {
+        return std::string(k_gdal_config) + ".\n" + k_exit + ", 3 the contract does not hold and --fail-on-defects "
+               "was given.";
+    }
+    return std::string(k_gdal_config) + ".\n" + k_exit + ".";
+}
+
+} // namespace
 
 int main(int argc, char** argv)
 {
@@ -65,6 +90,7 @@ int main(int argc, char** argv)
                       trisnap::make_stitch_command}) {
         auto command = make();
         CLI::App* sub = command->setup(app);
+        sub->footer(footer_of(sub->get_name()));
         commands.emplace_back(sub, std::move(command));
     }
     std::vector<char*> pointers;

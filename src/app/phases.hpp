@@ -44,6 +44,7 @@ struct LayerRead {
 /// What the read phase leaves for the rest of the run (kept in the store as read.bin).
 struct ReadSummary {
     std::size_t records = 0;        ///< features read (after --where/--bbox)
+    std::size_t smaller = 0;        ///< snapped features smaller than the tolerance (checked, not kept)
     std::size_t rejected = 0;       ///< not given to the engine and not written (NaN/inf)
     std::size_t input_vertices = 0; ///< of the snapped features, as GDAL counts them
     ProblemLog problems;            ///< found while reading and cleaning (input FIDs), sealed
@@ -65,6 +66,22 @@ struct ReadBuffers {
 /// Throws io_error when nothing is read.
 ReadSummary read_layer(Plan& plan, tiling::WorkStore& store, const ReadBuffers& buffers, Progress& progress,
                        const InterruptGuard& interrupt);
+
+/// What `validate` reads of the input: the read phase's read, without the work store.
+struct InputSurvey {
+    std::vector<std::size_t> features; ///< per input layer, after --where/--bbox
+    std::size_t vertices = 0;          ///< of every feature, as `trisnap info` counts them
+    std::size_t smaller = 0;           ///< snapped features smaller than the tolerance
+    std::size_t total() const;
+};
+
+/// Reads the layers as read_layer() does (the same reader: OSM interleaved) and counts.
+InputSurvey survey_input(Plan& plan);
+
+/// What the read phase stops on before anything is snapped, for `snap`, `plan` and `validate`
+/// alike: no feature to snap (io_error), or the collapse guard's pre-check on the features
+/// smaller than the tolerance (argument_error, app/collapse_guard.hpp).
+void check_read(const Plan& plan, std::size_t features, std::size_t smaller);
 
 /// The read phase's summary from an earlier run of this work directory (false: it did not finish);
 /// its problems stay in the store, read back from there.

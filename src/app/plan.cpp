@@ -61,7 +61,7 @@ double resolve_tolerance(const Config& config, OGRLayer& layer, std::string& not
         note = "degrees";
     }
     if (degrees_above_warning(t, false, srs)) {
-        spdlog::warn("{}", degree_warning(t));
+        spdlog::warn("{}", degree_warning(t, layer));
     }
     return t;
 }
@@ -157,14 +157,11 @@ void check_outputs(const SnapArgs& args, Plan& plan, GDALDriver& driver)
     check_distinct({{"OUT", plan.write.path}, {"--report", args.report}, {"--problems-layer", problems}});
 }
 
-/// --layer given more than once: distinct layers of one CRS, not from an OSM file (its driver
-/// reads one layer at a time, interleaved).
-std::vector<OGRLayer*> several_layers(const SnapArgs& args, GDALDataset& dataset, const std::string& driver)
+/// --layer given more than once: distinct layers of one CRS. From an OSM file too: its driver
+/// reads interleaved, and the reader (io/reader.hpp) reads the file once per layer, that layer
+/// alone of interest.
+std::vector<OGRLayer*> several_layers(const SnapArgs& args, GDALDataset& dataset)
 {
-    if (driver == "OSM") {
-        throw argument_error(args.input + ": one --layer at a time from an OSM file (its driver reads the layers "
-                             "interleaved); snap " + args.layers[0] + " and " + args.layers[1] + " in separate runs");
-    }
     std::vector<OGRLayer*> layers;
     for (std::size_t k = 0; k < args.layers.size(); ++k) {
         for (std::size_t j = 0; j < k; ++j) {
@@ -196,7 +193,7 @@ void open_layer(const SnapArgs& args, Plan& plan)
     plan.dataset = open_input(args.input, args.open_options);
     plan.input_driver = plan.dataset->GetDriverName();
     if (args.layers.size() > 1) {
-        plan.layers = several_layers(args, *plan.dataset, plan.input_driver);
+        plan.layers = several_layers(args, *plan.dataset);
     } else {
         plan.layers = {&select_layer(*plan.dataset, args.input, args.layers.empty() ? "" : args.layers[0])};
     }

@@ -22,7 +22,7 @@ struct Plan {
     GDALDatasetUniquePtr dataset;
     OGRLayer* layer = nullptr;        ///< the first (or only) input layer: the tolerance is resolved on it
     /// Every input layer in --layer order (layers[0] == layer): one engine run, one output
-    /// layer each. Several only in the same CRS, never from an OSM file.
+    /// layer each. Several only in the same CRS (from an OSM file: its file is read once per layer).
     std::vector<OGRLayer*> layers;
     std::vector<std::int64_t> feature_counts; ///< per layer, after filters; -1 when unknown
     std::string input_path;

@@ -103,7 +103,7 @@ void Progress::update(std::int64_t done)
 
 void Progress::update(std::int64_t done, std::int64_t total)
 {
-    {
+    if (total > 0) {
         const std::lock_guard lock(m_mutex);
         m_total = total;
     }
@@ -112,10 +112,21 @@ void Progress::update(std::int64_t done, std::int64_t total)
 
 void Progress::finish()
 {
+    std::int64_t done = 0;
+    {
+        const std::lock_guard lock(m_mutex);
+        done = m_total >= 0 ? m_total : m_done; // complete: a pass it could skip counts as done
+    }
+    finish(done);
+}
+
+void Progress::finish(std::int64_t done)
+{
     const std::lock_guard lock(m_mutex);
     m_running = false;
-    if (m_total >= 0) {
-        m_done = m_total; // the phase is complete (a pass it could skip counts as done)
+    m_done = done;
+    if (m_total < 0) {
+        m_total = done; // known now
     }
     if (m_bar) {
         draw_locked();

@@ -25,10 +25,15 @@ public:
     void start(const std::string& phase, std::int64_t total, const std::string& unit = "features");
     /// Reports `done` units (never less than before in a phase).
     void update(std::int64_t done);
-    /// The same, with a total that grew (a phase that found more work: the stitch's seam merges).
+    /// The same, with a total that grew or became known only now (> 0; else the total stays):
+    /// a phase that found more work, as the stitch's seam merges.
     void update(std::int64_t done, std::int64_t total);
-    /// Ends the phase (final bar line, final JSON line).
+    /// Ends the phase (final bar line, final JSON line): its count becomes its total (a pass it
+    /// could skip counts as done), and an unknown total becomes the count.
     void finish();
+    /// Ends a phase whose count is not the work done but a result (features written): `done`
+    /// is the final count, whatever the total.
+    void finish(std::int64_t done);
 
 private:
     using Clock = std::chrono::steady_clock;

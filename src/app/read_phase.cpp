@@ -3,6 +3,7 @@
 // listed in read.bin).
 #include "app/phases.hpp"
 
+#include "app/collapse_guard.hpp"
 #include "io/io_error.hpp"
 #include "io/ogr_geometry.hpp"
 #include "io/reader.hpp"
@@ -78,6 +79,7 @@ struct ReadTarget {
     tiling::OutFile& records;
     Progress& progress;
     const InterruptGuard& interrupt;
+    double tolerance;
 };
 
 // One layer, in input order; its problems are tagged with its index `k`.
@@ -101,6 +103,7 @@ void read_features(LayerReader& reader, std::uint32_t k, ReadTarget& to)
         } else if (feature->geometry) {
             e.verdict = RecordEntry::snap;
             layer.input_vertices += vertices_of(*feature->geometry);
+            s.smaller += smaller_than_tolerance(*feature->geometry, to.tolerance) ? 1 : 0;
             ++layer.snapped;
             to.spool.add(s.records, feature->fid, *feature->geometry, found);
         } else {
@@ -133,10 +136,10 @@ ReadSummary read_layer(Plan& plan, tiling::WorkStore& store, const ReadBuffers& 
     {
         stitch::FeatureSpool spool(store, plan.options.tolerance, buffers.sample_vertices, buffers.fids);
         const std::unique_ptr<tiling::OutFile> records = store.create(k_records_file);
-        ReadTarget to{s, spool, *records, progress, interrupt};
+        ReadTarget to{s, spool, *records, progress, interrupt, plan.tolerance};
         for (std::size_t k = 0; k < plan.layers.size(); ++k) {
             const IgnoredAttributes ignored(*plan.layers[k]);
-            LayerReader reader(*plan.dataset, *plan.layers[k]);
+            LayerReader reader(*plan.dataset, *plan.layers[k], plan.layers);
             if (k == 0) {
                 progress.start("plan", plan.feature_count >= 0 ? plan.feature_count : reader.count_hint());
             }
@@ -152,15 +155,47 @@ ReadSummary read_layer(Plan& plan, tiling::WorkStore& store, const ReadBuffers& 
             s.layers[0].fids_unique = s.meta.fids_unique;
         }
     }
-    if (s.records == 0) {
+    check_read(plan, s.records, s.smaller);
+    s.problems.seal();
+    save_read(store, s);
+    return s;
+}
+
+void check_read(const Plan& plan, std::size_t features, std::size_t smaller)
+{
+    if (features == 0) {
         throw io_error(input_label(plan), "",
                        plan.layer->GetAttrQueryString() || plan.layer->GetSpatialFilter()
                            ? "no feature matches --where/--bbox: nothing to snap"
                            : "the layer is empty: nothing to snap");
     }
-    s.problems.seal();
-    save_read(store, s);
-    return s;
+    check_collapse(plan, Drops{smaller, 0}, features, true);
+}
+
+std::size_t InputSurvey::total() const
+{
+    std::size_t n = 0;
+    for (std::size_t f : features) {
+        n += f;
+    }
+    return n;
+}
+
+InputSurvey survey_input(Plan& plan)
+{
+    InputSurvey survey;
+    for (OGRLayer* layer : plan.layers) {
+        const IgnoredAttributes ignored(*layer);
+        LayerReader reader(*plan.dataset, *layer, plan.layers);
+        std::size_t& features = survey.features.emplace_back(0);
+        for (OGRFeatureUniquePtr f = reader.next_raw(); f; f = reader.next_raw()) {
+            ++features;
+            survey.vertices += count_vertices(f->GetGeometryRef());
+            const InputFeature in = classify_feature(std::move(f));
+            survey.smaller += in.geometry && smaller_than_tolerance(*in.geometry, plan.tolerance) ? 1 : 0;
+        }
+    }
+    return survey;
 }
 
 bool load_read(tiling::WorkStore& store, std::size_t problem_bytes, ReadSummary& out)

@@ -190,12 +190,13 @@ void RunPhases::open_tiles()
 
 void RunPhases::spool()
 {
+    // Two passes over the features (reach boxes, buckets): counted as features, each pass half of one.
     auto on_pass = [&](std::uint64_t done, std::uint64_t) {
         m_interrupt.check(); // every 4096 features of each pass
-        m_progress.update(static_cast<std::int64_t>(done));
+        m_progress.update(static_cast<std::int64_t>(done / 2));
     };
     phase("spool", [&] {
-        m_progress.start("spool", static_cast<std::int64_t>(2 * m_meta.spooled), "feature reads");
+        m_progress.start("spool", static_cast<std::int64_t>(m_meta.spooled), "features");
         guarded([&] { m_run->plan(m_meta, on_pass); });
         // The sample's vertices served only the plan (up to limit/16 bytes).
         m_meta.sample.xs = {};

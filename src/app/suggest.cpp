@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <map>
 
 namespace trisnap {
 namespace {
@@ -76,6 +77,60 @@ std::string did_you_mean(const std::string& word, const std::vector<std::string>
     return best.empty() ? "" : "; did you mean " + best + "?";
 }
 
+constexpr const char* k_reproject = "trisnap does not reproject: it snaps in the layer's CRS and writes that CRS "
+                                    "(reprojecting after snapping would undo the separations); reproject with "
+                                    "ogr2ogr first, then snap";
+
+/// ogr2ogr options that do something trisnap does not: what to do instead. Edit distance alone
+/// pointed -sql at -q and -nlt at --nln.
+const std::map<std::string, std::string>& ogr2ogr_only()
+{
+    static const std::map<std::string, std::string> options = {
+        {"-t_srs", k_reproject},
+        {"-s_srs", k_reproject},
+        {"-a_srs", "trisnap does not assign a CRS: it writes the layer's own; assign one with ogr2ogr -a_srs first, "
+                   "then snap"},
+        {"-clipsrc", "trisnap does not clip: --bbox (-spat) selects the features that meet a box, whole; clip "
+                     "with ogr2ogr first, then snap"},
+        {"-clipdst", "trisnap does not clip: --bbox (-spat) selects the features that meet a box, whole; clip "
+                     "with ogr2ogr first, then snap"},
+        {"-sql", "trisnap reads a layer, not an SQL result: choose features with --where (-where) and fields with "
+                 "--select (-select), or run ogr2ogr -sql first"},
+        {"-dialect", "trisnap reads a layer, not an SQL result: --where (-where) takes OGR SQL"},
+        {"-nlt", "trisnap keeps the input's geometry types (it snaps polygons and lines as they are); convert the "
+                 "output with ogr2ogr -nlt if you need to (that moves no vertex)"},
+        {"-preserve_fid", "FIDs are kept where the format stores them, else in the field orig_fid"},
+        {"-makevalid", "trisnap's polygons are valid by construction; invalid input is repaired and reported"},
+    };
+    return options;
+}
+
+/// The shortest candidate that `word` begins (`--tol` is --tolerance), for words of at least
+/// three letters after the dashes; "" when none.
+std::string completion(const std::string& word, const std::vector<std::string>& candidates)
+{
+    const std::size_t letters = word.find_first_not_of('-');
+    if (letters == std::string::npos || word.size() - letters < 3) {
+        return "";
+    }
+    std::string best;
+    for (const std::string& c : candidates) {
+        if (c.size() > word.size() && c.compare(0, word.size(), word) == 0 && (best.empty() || c.size() < best.size())) {
+            best = c;
+        }
+    }
+    return best;
+}
+
+std::string option_hint(const std::string& name, const std::vector<std::string>& known)
+{
+    if (const auto it = ogr2ogr_only().find(name); it != ogr2ogr_only().end()) {
+        return ": " + it->second;
+    }
+    const std::string begun = completion(name, known);
+    return begun.empty() ? did_you_mean(name, known) : "; did you mean " + begun + "?";
+}
+
 /// The message for the first option `command` does not know, or "".
 std::string unknown_option(const CLI::App& command, const std::vector<std::string>& args, std::size_t from)
 {
@@ -86,7 +141,7 @@ std::string unknown_option(const CLI::App& command, const std::vector<std::strin
         }
         const std::string name = args[i].substr(0, args[i].find('='));
         if (std::find(known.begin(), known.end(), name) == known.end()) {
-            return "unknown option " + name + " for trisnap " + command.get_name() + did_you_mean(name, known) +
+            return "unknown option " + name + " for trisnap " + command.get_name() + option_hint(name, known) +
                    " (see trisnap " + command.get_name() + " --help)";
         }
     }

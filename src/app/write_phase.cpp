@@ -66,6 +66,8 @@ public:
           m_rejected(rejected_features(result.problems))
     {
     }
+    /// Features written so far, in all layers.
+    std::size_t written() const { return m_writer.written(); }
     /// Feature `seq` (input position across all layers) of input layer `k`.
     void feature(std::uint32_t k, std::size_t seq, const RecordEntry& e, OGRFeatureUniquePtr f);
     [[noreturn]] void changed(std::uint32_t k, const std::string& what) const
@@ -153,7 +155,7 @@ void Writer::feature(std::uint32_t k, std::size_t seq, const RecordEntry& e, OGR
 std::size_t write_features(Plan& plan, std::uint32_t k, std::size_t count, std::size_t seq, RecordLog& log,
                            Writer& w, Progress& progress, const InterruptGuard& interrupt)
 {
-    LayerReader reader(*plan.dataset, *plan.layers[k]);
+    LayerReader reader(*plan.dataset, *plan.layers[k], plan.layers);
     RecordEntry e;
     for (std::size_t i = 0; i < count; ++i, ++seq) {
         if (!log.next(e)) {
@@ -165,7 +167,7 @@ std::size_t write_features(Plan& plan, std::uint32_t k, std::size_t count, std::
             w.changed(k, "it now ends after " + std::to_string(i) + " features");
         }
         w.feature(k, seq, e, std::move(f));
-        progress.update(static_cast<std::int64_t>(seq + 1));
+        progress.update(static_cast<std::int64_t>(w.written()));
     }
     if (reader.next_raw()) {
         w.changed(k, "it now has more than " + std::to_string(count) + " features");
@@ -181,12 +183,14 @@ void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerge
     RecordLog log(store);
     result.problems.begin_phase("problems-write-"); // runs of a write that stopped go
     Writer w(plan, merger, writer, result);
-    progress.start("write", static_cast<std::int64_t>(result.input));
+    // The count is what went into OUT, of the features read: a bar at 292/292 for a layer that
+    // collapsed entirely (--force) said "written" of features that were not.
+    progress.start("write", static_cast<std::int64_t>(result.input), "features written");
     std::size_t seq = 0;
     for (std::size_t k = 0; k < plan.layers.size(); ++k) {
         seq = write_features(plan, static_cast<std::uint32_t>(k), result.layers[k].input, seq, log, w, progress, interrupt);
     }
-    progress.finish();
+    progress.finish(static_cast<std::int64_t>(w.written()));
     interrupt.check();
     // Before OUT is committed: nothing goes into place. Features of failed tiles (303) are not
     // collapses: they are reported, and --on-error skip asked for them to be left out.

@@ -50,8 +50,12 @@ std::vector<std::string> creation_options(const std::vector<std::string>& given,
     // Shapefiles stamp today's date in the .dbf header; a fixed date makes bytes repeatable.
     add_default(options, driver, "DBF_DATE_LAST_UPDATE", "2000-01-01");
     // GeoJSON defaults to 15 significant digits, which can move snapped vertices; keep them exact.
+    // GeoJSONSeq rounds to 7 decimals (RFC 7946) unless its COORDINATE_PRECISION is -1.
     if (!has_option(options, "COORDINATE_PRECISION")) {
         add_default(options, driver, "SIGNIFICANT_FIGURES", "17");
+        if (driver_name == "GeoJSONSeq") {
+            add_default(options, driver, "COORDINATE_PRECISION", "-1");
+        }
     }
     // OGR hands us UTF-8; without this the Shapefile driver would recode to ISO-8859-1.
     if (driver_name == "ESRI Shapefile") {

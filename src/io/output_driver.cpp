@@ -3,6 +3,7 @@
 #include "io/output_driver.hpp"
 
 #include "config/errors.hpp"
+#include "io/format_limits.hpp"
 #include "io/gdal_errors.hpp"
 #include "io/io_error.hpp"
 
@@ -115,14 +116,12 @@ std::string create_probe_layer(GDALDataset& dataset, const WriteOptions& options
     return "";
 }
 
-/// trisnap writes files (through its checking file system): a driver without GDAL's virtual
-/// I/O writes to memory, a database or a web service, where nothing could be checked or renamed.
-void refuse_non_file_driver(GDALDriver& driver, const std::string& what)
+/// A format that would lose what snapping made (io/format_limits.hpp) is refused by name.
+void refuse_format(GDALDriver& driver, const std::string& what)
 {
-    if (driver.GetMetadataItem(GDAL_DCAP_VIRTUALIO) == nullptr) {
-        throw argument_error(what + ": the " + std::string(driver.GetDescription()) +
-                             " format writes no file (memory, a database or a service); trisnap writes files, "
-                             "e.g. -f GPKG, FlatGeobuf, \"ESRI Shapefile\", GeoJSON");
+    const std::string reason = format_refusal(driver);
+    if (!reason.empty()) {
+        throw argument_error(what + ": the " + std::string(driver.GetDescription()) + " format " + reason);
     }
 }
 
@@ -135,7 +134,7 @@ GDALDriver& driver_by_name(const std::string& format)
     if (!can_write_vector(*driver)) {
         throw argument_error("-f " + format + ": this format cannot be written");
     }
-    refuse_non_file_driver(*driver, "-f " + format);
+    refuse_format(*driver, "-f " + format);
     return *driver;
 }
 
@@ -187,6 +186,12 @@ void probe_output(GDALDriver& driver, const WriteOptions& options, OGRLayer& sou
     if (!error.empty()) {
         throw argument_error(options.path + ": the " + driver.GetDescription() + " driver refuses it: " + error);
     }
+    // A layer the driver takes but would reproject or round after snapping (io/format_limits.hpp).
+    const std::string refusal = layer_refusal(driver, source.GetSpatialRef(), options.layer_options);
+    if (!refusal.empty()) {
+        const std::string out = is_stdout_path(options.path) ? "OUT - (stdout)" : options.path;
+        throw argument_error(out + ": the " + std::string(driver.GetDescription()) + " format " + refusal);
+    }
 }
 
 GDALDriver& output_driver(const std::string& path, const std::string& format)
@@ -203,7 +208,7 @@ GDALDriver& output_driver(const std::string& path, const std::string& format)
         throw argument_error(path + ": cannot tell the output format from the extension '" + ext +
                              "'; give one with -f (e.g. -f GPKG)");
     }
-    refuse_non_file_driver(*driver, path);
+    refuse_format(*driver, path);
     return *driver;
 }
 
@@ -246,7 +251,8 @@ void check_output_path(const WriteOptions& options, const std::string& input_pat
 bool driver_keeps_fids(GDALDriver& driver)
 {
     const std::string name = driver.GetDescription();
-    return name == "GPKG" || name == "SQLite" || name == "GeoJSON";
+    // GeoJSONSeq writes the FID as each feature's "id" member, as GeoJSON does.
+    return name == "GPKG" || name == "SQLite" || name == "GeoJSON" || name == "GeoJSONSeq";
 }
 
 } // namespace trisnap

@@ -25,7 +25,8 @@ std::string stdout_dataset_path(GDALDriver& driver);
 
 /// Creates the dataset, layer and fields the writer would create, in memory (/vsimem/), and
 /// deletes them: a driver that cannot hold this layer's geometry type (GPX and polygons), a bad
-/// creation option or an unknown --select field fail here. Throws argument_error.
+/// creation option or an unknown --select field fail here, and so does a format refused for this
+/// layer's CRS or options (io/format_limits.hpp). Throws argument_error.
 void probe_output(GDALDriver& driver, const WriteOptions& options, OGRLayer& source);
 
 } // namespace trisnap

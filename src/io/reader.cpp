@@ -120,12 +120,18 @@ InputFeature classify_feature(OGRFeatureUniquePtr feature)
     return in;
 }
 
-LayerReader::LayerReader(GDALDataset& dataset, OGRLayer& layer)
+LayerReader::LayerReader(GDALDataset& dataset, OGRLayer& layer, const std::vector<OGRLayer*>& interest)
     : m_dataset(dataset), m_layer(layer)
 {
     m_interleaved = std::string(dataset.GetDriverName()) == "OSM";
     if (m_interleaved) {
-        const std::string sql = std::string("SET interest_layers = ") + layer.GetName();
+        std::string names = layer.GetName();
+        for (OGRLayer* other : interest) {
+            if (other != &layer) {
+                names += std::string(",") + other->GetName();
+            }
+        }
+        const std::string sql = "SET interest_layers = " + names;
         dataset.ExecuteSQL(sql.c_str(), nullptr, nullptr);
         dataset.ResetReading();
     } else {

@@ -10,6 +10,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace trisnap {
 
@@ -24,10 +25,14 @@ struct InputFeature {
 };
 
 /// Reads one layer in order. For OSM datasets it reads through GDALDataset::GetNextFeature
-/// with only the chosen layer "interesting", the driver's required interleaved mode.
+/// (the driver's required interleaved mode) from the start of the file, with only the layers of
+/// `interest` "interesting" (default: `layer` alone) and the others' features skipped. Several
+/// layers of one OSM file are read one after the other, a pass over the file each (one reader
+/// at a time per dataset), each pass with all of them of interest: after a pass with only
+/// `lines` of interest, GDAL 3.6's driver gave no `multipolygons` at all.
 class LayerReader {
 public:
-    LayerReader(GDALDataset& dataset, OGRLayer& layer);
+    LayerReader(GDALDataset& dataset, OGRLayer& layer, const std::vector<OGRLayer*>& interest = {});
     /// The next feature, or nullopt at the end. Never throws for bad geometry: a geometry the
     /// driver failed to read (an error and no geometry) is problem 110, the feature rejected.
     std::optional<InputFeature> next();

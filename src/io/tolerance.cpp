@@ -86,15 +86,11 @@ bool degrees_above_warning(double tolerance, bool from_metres, const OGRSpatialR
     return !from_metres && srs != nullptr && srs->IsGeographic() && tolerance >= k_degree_warning;
 }
 
-std::string degree_warning(double tolerance)
-{
-    return fmt::format("--tolerance {} is in degrees on this geographic CRS (>= {:.3g} m); for metres use --tolerance-m",
-                       tolerance, tolerance * metres_per_degree(0) * 0.99);
-}
-
 namespace {
 
-/// The tolerance in metres on the layer's CRS ("1.1e+03 m"), or in layer units without a CRS.
+/// The tolerance as a length on the layer's CRS ("0.01 degrees, about 820 m here": at the layer's
+/// mean latitude, as --tolerance-m converts), or in layer units without a CRS. The one figure
+/// the warning and the collapse guard both give.
 std::string tolerance_length(double tolerance, OGRLayer& layer)
 {
     const OGRSpatialReference* srs = layer.GetSpatialRef();
@@ -113,6 +109,12 @@ std::string tolerance_length(double tolerance, OGRLayer& layer)
 }
 
 } // namespace
+
+std::string degree_warning(double tolerance, OGRLayer& layer)
+{
+    return fmt::format("--tolerance {} is in degrees on this geographic CRS ({}); for metres use --tolerance-m",
+                       tolerance, tolerance_length(tolerance, layer));
+}
 
 std::string collapse_advice(double tolerance, bool from_metres, OGRLayer& layer)
 {

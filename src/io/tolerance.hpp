@@ -23,8 +23,9 @@ inline constexpr double k_degree_warning = 0.001;
 bool degrees_above_warning(double tolerance, bool from_metres, const OGRSpatialReference* srs);
 
 /// The warning for such a tolerance: "--tolerance 0.01 is in degrees on this geographic CRS
-/// (>= 1.1e+03 m); for metres use --tolerance-m".
-std::string degree_warning(double tolerance);
+/// (0.01 degrees, about 820 m here); for metres use --tolerance-m", with the length the collapse
+/// guard's advice gives too (at the layer's mean latitude).
+std::string degree_warning(double tolerance, OGRLayer& layer);
 
 /// What to try instead of a tolerance that collapses too much, as a clause for an error line:
 /// for degrees above the warning threshold, the same number in metres ("did you mean

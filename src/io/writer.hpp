@@ -45,8 +45,8 @@ struct WriteOptions {
 };
 
 /// The driver for `path` (format empty: from the extension, like ogr2ogr). Throws
-/// argument_error when the format is unknown, cannot create vector datasets or writes no file
-/// (Memory, databases, web services: drivers without GDAL's virtual I/O).
+/// argument_error when the format is unknown, cannot create vector datasets, or is refused for
+/// every layer (io/format_limits.hpp: writes no file, no geometry, or quantises coordinates).
 GDALDriver& output_driver(const std::string& path, const std::string& format);
 
 /// Refuses an existing target without --overwrite, --update or --append, and a missing parent directory.

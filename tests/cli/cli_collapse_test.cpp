@@ -1,7 +1,9 @@
 // The collapse guard (issue 14): a run that would drop much of a layer stops before writing
 // (exit 2, nothing at OUT, the tolerance it probably meant named); --allow-collapse, --force or
-// [run] allow_collapse write it anyway; a few collapsed features run as before. Also `validate`
-// (predicted from envelopes) and a cluster `stitch`.
+// [run] allow_collapse write it anyway; a few collapsed features run as before. Features smaller
+// than the tolerance are counted while the input is read, so such a run stops before snapping
+// (snap, plan and validate alike); slivers the envelopes cannot see stop after snapping, before
+// OUT is committed (snap and a cluster `stitch`).
 #include "cli_support.hpp"
 
 #include <gtest/gtest.h>
@@ -53,6 +55,23 @@ protected:
         return path;
     }
 
+    /// 20 squares of 10 m in EPSG:3857, `thin` of them slivers 10 m long and 5 mm wide: longer
+    /// than the tolerance (the pre-check cannot see them), gone when snapped at t = 0.01.
+    std::string slivers(int thin)
+    {
+        std::vector<FixtureFeature> features = squares(20 - thin, 0, 0, 10, 20);
+        for (int i = 0; i < thin; ++i) {
+            const double x = i * 20.0;
+            char wkt[256];
+            std::snprintf(wkt, sizeof wkt, "POLYGON ((%.3f 100,%.3f 100,%.3f 100.005,%.3f 100.005,%.3f 100))", x, x + 10,
+                          x + 10, x, x);
+            features.push_back({wkt, {{"id", std::to_string(features.size() + 1)}}});
+        }
+        const std::string path = dir.path("slivers.gpkg");
+        write_fixture(path, "GPKG", "parcels", 3857, wkbPolygon, features);
+        return path;
+    }
+
     TempDir dir;
 };
 
@@ -63,9 +82,9 @@ TEST_F(CliCollapse, TheOldReadmeExampleStopsBeforeWritingAndNamesTheMetres)
     EXPECT_EQ(r.code, 2) << r.err;
     EXPECT_EQ(r.out, "");
     EXPECT_NE(r.err.find("trisnap: error: "), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find("snapping would drop 20 of 20 features"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("at least 20 of 20 features are smaller than the tolerance"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("you probably meant --tolerance-m 0.01 (0.01 m = "), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find("Nothing was written; --allow-collapse"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("Stopped; --allow-collapse"), std::string::npos) << r.err;
     EXPECT_FALSE(exists(out));
     EXPECT_FALSE(exists(dir.path("r.json")));
     EXPECT_TRUE(leftovers(dir.path("")).empty());
@@ -73,13 +92,18 @@ TEST_F(CliCollapse, TheOldReadmeExampleStopsBeforeWritingAndNamesTheMetres)
 
 TEST_F(CliCollapse, StdoutGetsNoFeatureEither)
 {
-    // The stream's header is out before snapping (the driver is opened first): an empty collection.
+    // The pre-check stops the run after the read, before the stream's header is out.
     const RunOutput r = run_trisnap(dir, {"snap", buildings(), "-", "--tolerance", "0.01", "--force"});
     ASSERT_EQ(r.code, 0) << r.err;
     const RunOutput stopped = run_trisnap(dir, {"snap", buildings(), "-", "--tolerance", "0.01"});
     EXPECT_EQ(stopped.code, 2) << stopped.err;
-    EXPECT_EQ(stopped.out.find("\"Feature\""), std::string::npos) << stopped.out;
-    EXPECT_EQ(stopped.out, r.out); // the same empty collection, no feature came before the stop
+    EXPECT_EQ(stopped.out, "");
+    // What the pre-check cannot see stops after snapping: the header (written when the driver
+    // is opened, before snapping) and no feature.
+    const RunOutput thin = run_trisnap(dir, {"snap", slivers(3), "-", "--tolerance", "0.01"});
+    EXPECT_EQ(thin.code, 2) << thin.err;
+    EXPECT_NE(thin.out.find("FeatureCollection"), std::string::npos) << thin.out;
+    EXPECT_EQ(thin.out.find("\"Feature\""), std::string::npos) << thin.out;
 }
 
 TEST_F(CliCollapse, AllowCollapseWritesAndForceIsTheSame)
@@ -127,8 +151,21 @@ TEST_F(CliCollapse, OverATenthInLayerUnitsStops)
 {
     const std::string out = dir.path("out.gpkg");
     const RunOutput r = run_trisnap(dir, {"snap", parcels(3), out, "--tolerance", "0.01"});
-    expect_error(r, 2, "snapping would drop 3 of 20 features (collapsed); the tolerance is 0.01 m: give a smaller one");
+    expect_error(r, 2, "at least 3 of 20 features are smaller than the tolerance: snapping would drop them; the "
+                       "tolerance is 0.01 m: give a smaller one");
     EXPECT_FALSE(exists(out));
+}
+
+TEST_F(CliCollapse, SliversThePreCheckCannotSeeStopAfterSnapping)
+{
+    const std::string out = dir.path("out.gpkg");
+    const RunOutput r = run_trisnap(dir, {"snap", slivers(3), out, "--tolerance", "0.01"});
+    expect_error(r, 2, "snapping would drop 3 of 20 features (collapsed); the tolerance is 0.01 m: give a smaller one. "
+                       "Nothing was written");
+    EXPECT_FALSE(exists(out));
+    const RunOutput v = run_trisnap(dir, {"validate", slivers(3), out, "--tolerance", "0.01"});
+    EXPECT_EQ(v.code, 0) << v.err;
+    EXPECT_NE(v.out.find("collapse:  at least 0 of 20 features vanish"), std::string::npos) << v.out;
 }
 
 TEST_F(CliCollapse, AnyCollapseWithDegreesAboveTheWarningStops)
@@ -139,7 +176,7 @@ TEST_F(CliCollapse, AnyCollapseWithDegreesAboveTheWarningStops)
                   squares(19, 1.5, 42.5, 0.01, 0.02) + squares(1, 1.5, 43.0, 0.0005, 0.02));
     const RunOutput r = run_trisnap(dir, {"snap", in, dir.path("out.gpkg"), "--tolerance", "0.001"});
     EXPECT_EQ(r.code, 2) << r.err;
-    EXPECT_NE(r.err.find("snapping would drop 1 of 20 features"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("at least 1 of 20 features are smaller than the tolerance"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("you probably meant --tolerance-m 0.001"), std::string::npos) << r.err;
     EXPECT_FALSE(exists(dir.path("out.gpkg")));
 }
@@ -161,15 +198,20 @@ TEST_F(CliCollapse, ValidatePredictsIt)
 
 TEST_F(CliCollapse, ClusterStitchStopsToo)
 {
+    // plan reads the input: the pre-check stops it there, before any task is submitted.
     const std::string run_dir = dir.path("run");
-    RunOutput r = run_trisnap(dir, {"plan", buildings(), run_dir, "--tolerance", "0.01", "-q"});
+    RunOutput r = run_trisnap(dir, {"plan", buildings(), dir.path("stopped"), "--tolerance", "0.01", "-q"});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("at least 20 of 20 features are smaller than the tolerance"), std::string::npos) << r.err;
+    // Slivers it cannot see stop the stitch.
+    r = run_trisnap(dir, {"plan", slivers(3), run_dir, "--tolerance", "0.01", "-q"});
     ASSERT_EQ(r.code, 0) << r.err;
     r = run_trisnap(dir, {"snap-tiles", run_dir, "--shard", "0", "--num-shards", "1", "-q"});
     ASSERT_EQ(r.code, 0) << r.err;
     const std::string out = dir.path("out.gpkg");
     r = run_trisnap(dir, {"stitch", run_dir, out});
     EXPECT_EQ(r.code, 2) << r.err;
-    EXPECT_NE(r.err.find("you probably meant --tolerance-m 0.01"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("snapping would drop 3 of 20 features (collapsed)"), std::string::npos) << r.err;
     EXPECT_FALSE(exists(out));
     r = run_trisnap(dir, {"stitch", run_dir, out, "--allow-collapse", "-q"});
     EXPECT_EQ(r.code, 0) << r.err;
@@ -185,7 +227,7 @@ TEST_F(CliCollapse, AndorraBuildingsAtOneHundredthOfADegree)
     const std::string out = dir.path("snapped.gpkg");
     const RunOutput r = run_trisnap(dir, {"snap", in, out, "--layer", "buildings", "--tolerance", "0.01"});
     EXPECT_EQ(r.code, 2) << r.err;
-    EXPECT_NE(r.err.find("snapping would drop 292 of 292 features"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("at least 292 of 292 features are smaller than the tolerance"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("you probably meant --tolerance-m 0.01"), std::string::npos) << r.err;
     EXPECT_FALSE(exists(out));
 }

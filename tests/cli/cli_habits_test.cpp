@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <regex>
 
 namespace trisnap::test {
 namespace {
@@ -66,6 +67,11 @@ TEST_F(CliHabits, VerboseLogsOnStderr)
     RunOutput r = run_trisnap(dir, {"snap", fixture(), dir.path("o.gpkg"), "--tolerance", "0.01", "-v"});
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("trisnap: info: input:"), std::string::npos) << r.err;
+    // The time of every phase, with the peak memory after it.
+    for (const char* phase : {"plan", "spool", "snap", "stitch", "write"}) {
+        const std::regex timing(std::string("(^|\n)trisnap: info: ") + phase + R"(: [0-9]+\.[0-9]{2} s, peak memory )");
+        EXPECT_TRUE(std::regex_search(r.err, timing)) << "no timing of phase " << phase << " in:\n" << r.err;
+    }
     EXPECT_EQ(r.err.find("GDAL debug"), std::string::npos) << "GDAL's debug lines only at -vv";
     r = run_trisnap(dir, {"snap", fixture(), dir.path("o.gpkg"), "--tolerance", "0.01", "-vv", "--overwrite"});
     EXPECT_EQ(r.code, 0) << r.err;

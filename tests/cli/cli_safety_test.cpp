@@ -16,16 +16,17 @@ namespace {
 namespace fs = std::filesystem;
 
 /// `n` separate 24-gons with a name each: about 1 MB as GeoJSON, 0.4 MB as GPKG.
-std::vector<FixtureFeature> many_polygons(int n)
+std::vector<FixtureFeature> many_polygons(int n, double scale = 1.0)
 {
     std::vector<FixtureFeature> features;
     for (int k = 0; k < n; ++k) {
-        const double cx = (k % 40) * 10.0;
-        const double cy = (k / 40) * 10.0;
+        const double cx = (k % 40) * 10.0 * scale;
+        const double cy = (k / 40) * 10.0 * scale;
         std::string wkt = "POLYGON ((";
         for (int i = 0; i <= 24; ++i) {
             const double a = 2 * 3.14159265358979 * (i % 24) / 24;
-            wkt += (i ? "," : "") + std::to_string(cx + 3 * std::cos(a)) + " " + std::to_string(cy + 3 * std::sin(a));
+            wkt += (i ? "," : "") + std::to_string(cx + 3 * scale * std::cos(a)) + " " +
+                   std::to_string(cy + 3 * scale * std::sin(a));
         }
         features.push_back({wkt + "))", {{"id", std::to_string(k)}, {"name", "polygon " + std::to_string(k)}}});
     }
@@ -230,8 +231,13 @@ protected:
 
 TEST_P(CliDiskFull, LeavesNothingAtOutAndExits1)
 {
-    const std::string in = dir.path("many.gpkg");
-    write_fixture(in, "GPKG", "parcels", 3857, wkbPolygon, many_polygons(1000));
+    // KML and GeoJSONSeq store WGS84 lon/lat only and refuse a layer in another CRS
+    // (io/format_limits.hpp): for them a layer without a CRS (a Shapefile without .prj), at
+    // coordinates that are valid longitudes and latitudes, which they write as they are.
+    const bool wgs84_only = GetParam() == "kml" || GetParam() == "geojsons";
+    const std::string in = dir.path(wgs84_only ? "many.shp" : "many.gpkg");
+    write_fixture(in, wgs84_only ? "ESRI Shapefile" : "GPKG", "parcels", wgs84_only ? 0 : 3857, wkbPolygon,
+                  many_polygons(1000, wgs84_only ? 0.1 : 1.0));
     const std::string out = dir.path("out." + GetParam());
     const std::vector<std::string> args{"snap", in, out, "--tolerance", "0.01", "-q"};
     const RunOutput r = run_trisnap_limited(dir, args, Limits{192 * 1024, 0});

@@ -154,6 +154,7 @@ private:
     EdgeOwners m_edge_owners;
     std::vector<std::vector<std::uint32_t>> m_input_ids;
     std::vector<std::uint32_t> m_vertex_stamp;
+    std::vector<double> m_vertex_d2; ///< a search's squared distance of each vertex it stamped
     std::uint32_t m_stamp = 0;
     std::size_t m_intersections = 0;
     std::size_t m_faces_walked = 0;

@@ -129,6 +129,7 @@ void Mesh::insert_points(const std::vector<CleanFeature>& features, double reach
     }
     m_forward.assign(unique.size(), cdt::k_no_id);
     m_vertex_stamp.assign(unique.size(), 0);
+    m_vertex_d2.assign(unique.size(), 0.0);
 }
 
 // Features are inserted in (id, index) order so crossings are found in an order that does not
@@ -212,6 +213,7 @@ std::uint32_t Mesh::add_record(cdt::Vertex_handle h, double z)
     m_vertices.push_back(std::move(r));
     m_forward.push_back(cdt::k_no_id);
     m_vertex_stamp.push_back(0);
+    m_vertex_d2.push_back(0.0);
     return id;
 }
 

@@ -128,6 +128,7 @@ void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
                 const double ex = m_vertices[w].x - rv.x;
                 const double ey = m_vertices[w].y - rv.y;
                 const double d2 = ex * ex + ey * ey;
+                m_vertex_d2[w] = d2;
                 if (d2 <= r2_vertex) {
                     vertices.emplace_back(d2, w);
                 }
@@ -149,8 +150,14 @@ void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
         }
     };
     m_vertex_stamp[v] = stamp;
+    m_vertex_d2[v] = 0;
+    // An edge with an end in reach meets the disk: the ends' distances (the face was visited
+    // first) decide most edges without the distance to the segment.
     walk_region(m_tri, rv.handle, stamp, m_walk,
-                [&](std::uint32_t a, std::uint32_t b) { return seg_dist2(a, b) <= reach2; }, visit_face);
+                [&](std::uint32_t a, std::uint32_t b) {
+                    return m_vertex_d2[a] <= reach2 || m_vertex_d2[b] <= reach2 || seg_dist2(a, b) <= reach2;
+                },
+                visit_face);
 }
 
 void Mesh::search_segment(std::uint32_t b, std::uint32_t c, double r2,
@@ -165,11 +172,16 @@ void Mesh::search_segment(std::uint32_t b, std::uint32_t c, double r2,
     const VertexRecord& rc = m_vertices[c];
     m_vertex_stamp[b] = stamp;
     m_vertex_stamp[c] = stamp;
+    m_vertex_d2[b] = 0;
+    m_vertex_d2[c] = 0;
     // Start from the faces around b: two of them hold the edge, so the walk with the capsule
     // test covers the whole edge.
     walk_region(
         m_tri, rb.handle, stamp, m_walk,
         [&](std::uint32_t p, std::uint32_t q) {
+            if (m_vertex_d2[p] <= r2 || m_vertex_d2[q] <= r2) { // an end in the capsule (as above)
+                return true;
+            }
             const VertexRecord& rp = m_vertices[p];
             const VertexRecord& rq = m_vertices[q];
             return squared_segment_distance(rb.x, rb.y, rc.x, rc.y, rp.x, rp.y, rq.x, rq.y) <= r2;
@@ -184,6 +196,7 @@ void Mesh::search_segment(std::uint32_t b, std::uint32_t c, double r2,
                 m_vertex_stamp[w] = stamp;
                 const VertexRecord& rw = m_vertices[w];
                 const double d2 = squared_distance_point_segment(rw.x, rw.y, rb.x, rb.y, rc.x, rc.y);
+                m_vertex_d2[w] = d2;
                 if (d2 <= r2) {
                     vertices.emplace_back(d2, w);
                 }

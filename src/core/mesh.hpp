@@ -83,9 +83,12 @@ public:
     /// Vertices within sqrt(r2_vertex) of vertex v and constrained edges within sqrt(r2_edge)
     /// of it (not incident to v), with squared distances, whatever constraints lie between: a
     /// walk over the faces meeting the disk.
+    /// `nearest_only`: the caller wants, of the vertices, only the nearest (and every vertex as
+    /// near): the walk then shrinks to the nearest distance found so far plus sqrt(r2_vertex) / 8
+    /// (never below sqrt(r2_edge)), and `vertices` holds the nearest ones and possibly others.
     void search_point(std::uint32_t v, double r2_vertex, double r2_edge,
                       std::vector<std::pair<double, std::uint32_t>>& vertices,
-                      std::vector<EdgeHit>& edges);
+                      std::vector<EdgeHit>& edges, bool nearest_only = false);
     /// Vertices within sqrt(r2) of the segment b-c (not b or c), with squared distances: a walk
     /// over faces meeting the capsule.
     void search_segment(std::uint32_t b, std::uint32_t c, double r2,

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <tuple>
 
 namespace trisnap::detail {
@@ -104,7 +105,8 @@ std::uint32_t Mesh::next_stamp()
 }
 
 void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
-                        std::vector<std::pair<double, std::uint32_t>>& vertices, std::vector<EdgeHit>& edges)
+                        std::vector<std::pair<double, std::uint32_t>>& vertices, std::vector<EdgeHit>& edges,
+                        bool nearest_only)
 {
     vertices.clear();
     edges.clear();
@@ -113,26 +115,49 @@ void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
     }
     const std::uint32_t stamp = next_stamp();
     const VertexRecord& rv = m_vertices[v];
-    const double reach2 = std::max(r2_vertex, r2_edge);
+    double reach2 = std::max(r2_vertex, r2_edge);
+    const double margin = std::sqrt(r2_vertex) / 8;
+    double best2 = std::numeric_limits<double>::infinity();
     const auto seg_dist2 = [&](std::uint32_t a, std::uint32_t b) {
         const VertexRecord& ra = m_vertices[a];
         const VertexRecord& rb = m_vertices[b];
         return squared_distance_point_segment(rv.x, rv.y, ra.x, ra.y, rb.x, rb.y);
     };
+    // Records vertex w's squared distance once per search. With `nearest_only` only vertices as
+    // near as the nearest so far are kept, and the walk shrinks to the nearest distance plus a
+    // margin (but not below the edge radius): anything nearer than the nearest lies in that
+    // disk, and the faces meeting a disk around v are connected through edges meeting it, so the
+    // walk still reaches them. The margin, an eighth of the vertex radius (the tolerance is >= 256
+    // ulps of the coordinates, so >= 32 ulps), is far above the rounding of the distances, so a
+    // vertex as near as the nearest is never lost to it. In a cluster of k vertices within t this
+    // keeps the walk near v instead of over all k.
+    const auto see_vertex = [&](std::uint32_t w) {
+        if (m_vertex_stamp[w] == stamp) {
+            return;
+        }
+        m_vertex_stamp[w] = stamp;
+        const double ex = m_vertices[w].x - rv.x;
+        const double ey = m_vertices[w].y - rv.y;
+        const double d2 = ex * ex + ey * ey;
+        m_vertex_d2[w] = d2;
+        if (d2 > r2_vertex) {
+            return;
+        }
+        if (!nearest_only) {
+            vertices.emplace_back(d2, w);
+        } else if (d2 <= best2) {
+            vertices.emplace_back(d2, w);
+            if (d2 < best2) {
+                best2 = d2;
+                const double r = std::sqrt(d2) + margin;
+                reach2 = std::max(std::min(reach2, r * r), r2_edge);
+            }
+        }
+    };
     const auto visit_face = [&](cdt::Face_handle f) {
         ++m_faces_walked;
         for (int i = 0; i < 3; ++i) {
-            const std::uint32_t w = f->vertex(i)->info().id;
-            if (m_vertex_stamp[w] != stamp) {
-                m_vertex_stamp[w] = stamp;
-                const double ex = m_vertices[w].x - rv.x;
-                const double ey = m_vertices[w].y - rv.y;
-                const double d2 = ex * ex + ey * ey;
-                m_vertex_d2[w] = d2;
-                if (d2 <= r2_vertex) {
-                    vertices.emplace_back(d2, w);
-                }
-            }
+            see_vertex(f->vertex(i)->info().id);
             // A constrained edge in reach meets the region, so the walk visits both its faces:
             // take it from one of them (the order of `edges` means nothing to the callers).
             if (!f->is_constrained(i) || (f->neighbor(i) < f && !m_tri.is_infinite(f->neighbor(i)))) {
@@ -151,6 +176,17 @@ void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
     };
     m_vertex_stamp[v] = stamp;
     m_vertex_d2[v] = 0;
+    if (nearest_only) {
+        // v's neighbours first (in a constrained Delaunay triangulation the nearest visible
+        // vertex is one of them): the walk starts with its reach already shrunk.
+        auto vc = m_tri.incident_vertices(rv.handle);
+        const auto done = vc;
+        do {
+            if (!m_tri.is_infinite(vc)) {
+                see_vertex(vc->info().id);
+            }
+        } while (++vc != done);
+    }
     // An edge with an end in reach meets the disk: the ends' distances (the face was visited
     // first) decide most edges without the distance to the segment.
     walk_region(m_tri, rv.handle, stamp, m_walk,

@@ -61,7 +61,7 @@ bool Snapper::retry_parked()
     }
     // Each end's smallest parked pair becomes its candidate: nothing else is left to merge.
     for (const Event& e : parked) {
-        for (const auto [x, other] : {std::pair{e.a, e.b}, std::pair{e.b, e.a}}) {
+        for (const auto& [x, other] : {std::pair{e.a, e.b}, std::pair{e.b, e.a}}) {
             MergeCandidate& c = m_candidate[x];
             const bool smaller = c.other == MergeCandidate::none ||
                                  std::tie(e.d2, e.a, e.b) < std::make_tuple(c.d2, std::min(x, c.other), std::max(x, c.other));

@@ -39,10 +39,9 @@ void Snapper::initial_scan(bool every_pair)
 // `every_pair` (the verifying scan) queues every pair, seen from its lower end, as before.
 void Snapper::discover_point(std::uint32_t v, bool every_pair)
 {
-    // Edges within the edge threshold, and the vertices there: when one is that close the nearest
-    // is among them; otherwise the candidate is looked for out to t.
-    const double near2 = every_pair ? std::max(m_vt2, m_et2) : std::min(m_vt2, m_et2);
-    m_mesh.search_point(v, every_pair ? m_vt2 : near2, m_et2, m_near, m_edges);
+    // One walk finds the edges within the edge threshold and the vertices within t (of which
+    // only the nearest matters unless a parked pair must be passed over).
+    m_mesh.search_point(v, m_vt2, m_et2, m_near, m_edges, !every_pair && m_parked_pairs.empty());
     for (const EdgeHit& h : m_edges) {
         // Within t of an end of the edge the split is never applicable (it is left to the merge),
         // and the three vertices never move: such events are not queued.
@@ -57,9 +56,6 @@ void Snapper::discover_point(std::uint32_t v, bool every_pair)
             }
         }
         return;
-    }
-    if (m_near.empty() && m_vt2 > near2) {
-        m_mesh.search_point(v, m_vt2, -1.0, m_near, m_edges);
     }
     register_nearest(v);
 }
@@ -111,7 +107,7 @@ void Snapper::find_candidate(std::uint32_t v, double stale2)
 // candidate it was looks for its next one.
 void Snapper::merge_event_gone(const Event& e)
 {
-    for (const auto [x, other] : {std::pair{e.a, e.b}, std::pair{e.b, e.a}}) {
+    for (const auto& [x, other] : {std::pair{e.a, e.b}, std::pair{e.b, e.a}}) {
         if (alive(x) && x < m_candidate.size() && m_candidate[x].other == other) {
             find_candidate(x, e.d2);
         }

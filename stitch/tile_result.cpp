@@ -153,4 +153,27 @@ bool seam_less(const SeamEdge& a, const SeamEdge& b) { return seam_key(a) < seam
 
 bool seam_equal(const SeamEdge& a, const SeamEdge& b) { return seam_key(a) == seam_key(b); }
 
+std::string encode_notes(const std::vector<std::pair<std::uint64_t, Problem>>& notes)
+{
+    std::string bytes;
+    tiling::ByteWriter w(bytes);
+    w.put<std::uint64_t>(notes.size());
+    for (const auto& [rank, p] : notes) {
+        w.put(rank);
+        tiling::put_problem(w, p);
+    }
+    return bytes;
+}
+
+std::vector<std::pair<std::uint64_t, Problem>> decode_notes(const std::string& bytes)
+{
+    tiling::ByteReader r(bytes, "notes");
+    std::vector<std::pair<std::uint64_t, Problem>> notes(r.get<std::uint64_t>());
+    for (auto& [rank, p] : notes) {
+        rank = r.get<std::uint64_t>();
+        p = tiling::get_problem(r);
+    }
+    return notes;
+}
+
 } // namespace trisnap::stitch

@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace trisnap::stitch {
@@ -66,6 +67,9 @@ void put_seam_edge(tiling::ByteWriter& w, const SeamEdge& e);
 SeamEdge get_seam_edge(tiling::ByteReader& r);
 void put_tile_report(tiling::ByteWriter& w, const TileReport& t);
 TileReport get_tile_report(tiling::ByteReader& r);
+/// The seam rounds' notes (301 with the rank of its feature), as one work file's bytes.
+std::string encode_notes(const std::vector<std::pair<std::uint64_t, Problem>>& notes);
+std::vector<std::pair<std::uint64_t, Problem>> decode_notes(const std::string& bytes);
 
 /// Exact identity of a seam edge: feature, coordinates and the bits of z.
 bool seam_less(const SeamEdge& a, const SeamEdge& b);

@@ -1,4 +1,6 @@
 #include "stitch/tiled_snap.hpp"
+#include "stitch/tiled_snap_impl.hpp"
+#include "stitch/tile_gates.hpp"
 
 #include "stitch/seams.hpp"
 #include "stitch/tile_run.hpp"
@@ -8,13 +10,10 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
 #include <limits>
 #include <map>
-#include <mutex>
 #include <stdexcept>
 
 namespace trisnap::stitch {
@@ -27,137 +26,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0)
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Bytes reserved by the tiles in flight; a tile waits until its estimate fits in the pool.
-// The vertices done, for the bar, while tiles run: a finished tile counts whole, a running one by
-// the engine's own progress scaled to its vertex estimate. Calls to `progress` are serialised
-// and never go backwards; a worker that finds the lock taken skips its update.
-class LiveCount {
-public:
-    LiveCount(const TileProgress& progress, std::uint64_t total) : m_progress(progress), m_total(total) {}
-
-    /// A running tile of `vertices` is at done/of; `share` is what it added so far.
-    void running(std::uint64_t& share, std::uint64_t vertices, std::size_t done, std::size_t of)
-    {
-        const std::uint64_t now = of == 0 ? 0 : static_cast<std::uint64_t>(static_cast<double>(vertices) * static_cast<double>(done) / static_cast<double>(of));
-        if (!m_progress || now <= share) {
-            return;
-        }
-        m_running.fetch_add(now - share);
-        share = now;
-        const std::unique_lock lock(m_mutex, std::try_to_lock);
-        if (lock.owns_lock()) {
-            emit();
-        }
-    }
-
-    /// A tile of `vertices` finished; its running share is replaced by all of it.
-    void finished(std::uint64_t share, std::uint64_t vertices)
-    {
-        const std::lock_guard lock(m_mutex);
-        m_running.fetch_sub(share);
-        m_done += vertices;
-        if (m_progress) {
-            emit();
-        }
-    }
-
-private:
-    void emit()
-    {
-        m_last = std::max(m_last, std::min(m_total, m_done + m_running.load()));
-        m_progress(m_last, m_total);
-    }
-
-    const TileProgress& m_progress;
-    std::uint64_t m_total;
-    std::mutex m_mutex;
-    std::uint64_t m_done = 0;
-    std::atomic<std::uint64_t> m_running{0};
-    std::uint64_t m_last = 0;
-};
-
-class MemoryGate {
-public:
-    explicit MemoryGate(std::uint64_t pool) : m_pool(pool) {}
-    void acquire(std::uint64_t bytes)
-    {
-        if (m_pool == 0) {
-            return;
-        }
-        std::unique_lock lock(m_mutex);
-        m_free.wait(lock, [&] { return m_used == 0 || m_used + bytes <= m_pool; });
-        m_used += bytes;
-    }
-    void release(std::uint64_t bytes)
-    {
-        if (m_pool == 0) {
-            return;
-        }
-        {
-            const std::lock_guard lock(m_mutex);
-            m_used -= bytes;
-        }
-        m_free.notify_all();
-    }
-
-private:
-    std::uint64_t m_pool;
-    std::uint64_t m_used = 0;
-    std::mutex m_mutex;
-    std::condition_variable m_free;
-};
-
-std::string encode_notes(const std::vector<std::pair<std::uint64_t, Problem>>& notes)
-{
-    std::string bytes;
-    tiling::ByteWriter w(bytes);
-    w.put<std::uint64_t>(notes.size());
-    for (const auto& [rank, p] : notes) {
-        w.put(rank);
-        tiling::put_problem(w, p);
-    }
-    return bytes;
-}
-
-std::vector<std::pair<std::uint64_t, Problem>> decode_notes(const std::string& bytes)
-{
-    tiling::ByteReader r(bytes, "notes");
-    std::vector<std::pair<std::uint64_t, Problem>> notes(r.get<std::uint64_t>());
-    for (auto& [rank, p] : notes) {
-        rank = r.get<std::uint64_t>();
-        p = tiling::get_problem(r);
-    }
-    return notes;
-}
-
 } // namespace
-
-struct TiledRun::Impl {
-    Impl(tiling::WorkStore& s, const SnapOptions& o, const TilingOptions& t, const ScheduleOptions& sc)
-        : store(s), options(o), tiling(t), schedule(sc)
-    {
-    }
-    int threads() const { return schedule.threads > 0 ? schedule.threads : tbb::info::default_concurrency(); }
-    void save_groups();
-    void run_groups(std::vector<std::size_t> pending, const TileProgress& progress, bool retry = true);
-    std::vector<std::pair<std::size_t, std::string>> run_once(std::vector<std::size_t> pending, const TileProgress& progress);
-    std::string run_one(const TileRunner& runner, std::size_t group, const std::function<void(std::size_t, std::size_t)>& on_progress,
-                        TileInputMode mode = TileInputMode::cut);
-    void retry_whole(const std::vector<std::pair<std::size_t, std::string>>& failed, const std::string& tried);
-    void retry_merged(const std::vector<std::pair<std::size_t, std::string>>& failed, const TileProgress& progress);
-    std::vector<std::uint64_t> dropped_ranks() const;
-    std::uint64_t max_tile_vertices() const;
-
-    tiling::WorkStore& store;
-    SnapOptions options;
-    TilingOptions tiling;
-    ScheduleOptions schedule;
-    SpoolMeta meta;
-    TileLayout layout;
-    Groups groups;
-    std::vector<std::pair<std::uint64_t, Problem>> notes;
-    StitchStats stats;
-};
 
 void TiledRun::Impl::save_groups()
 {
@@ -192,25 +61,6 @@ void TiledRun::Impl::run_groups(std::vector<std::size_t> pending, const TileProg
         return;
     }
     retry_whole(failed, "alone");
-}
-
-// The last try of each failed group: its region untiled, every feature meeting it given whole
-// (an untiled run's view of it: no shortcut or detour edge), one group at a time with the whole
-// memory pool. It goes through the seam check like any tile (a disagreement merges it with the
-// neighbour, and a merged run that fails comes back here, larger each time). When it fails too,
-// the group is committed as failed: its features are reported (303) with the tries and reasons.
-void TiledRun::Impl::retry_whole(const std::vector<std::pair<std::size_t, std::string>>& failed, const std::string& tried)
-{
-    const TileRunner runner(store, layout, groups, meta, options, tiling.max_growth);
-    for (const auto& [g, reason] : failed) {
-        const std::string again = run_one(runner, g, [](std::size_t, std::size_t) {}, TileInputMode::whole);
-        ++groups.runs[g];
-        if (again.empty()) {
-            ++stats.tile_runs;
-            continue;
-        }
-        runner.fail(g, tried + " (" + reason + ") and untiled in its region (" + again + ")");
-    }
 }
 
 // Runs the groups; returns the ones that failed (OnError::skip) with the engine's message, in
@@ -333,123 +183,6 @@ std::string TiledRun::Impl::run_one(const TileRunner& runner, std::size_t group,
         }
         return reason;
     }
-}
-
-// The features failed tiles dropped (their results' pieces), ascending. Reads only the first
-// record of the other results.
-std::vector<std::uint64_t> TiledRun::Impl::dropped_ranks() const
-{
-    std::vector<std::uint64_t> out;
-    std::string record;
-    for (std::size_t g : groups.live(layout)) {
-        if (!store.exists(files::result(g))) {
-            continue;
-        }
-        const std::unique_ptr<tiling::InFile> file = store.open(files::result(g));
-        tiling::RecordReader reader(*file, 4096);
-        if (!reader.next(record)) {
-            continue;
-        }
-        tiling::ByteReader r(record, "tile report");
-        if (!get_tile_report(r).failed) {
-            continue;
-        }
-        while (reader.next(record)) {
-            tiling::ByteReader pr(record, "piece");
-            out.push_back(get_piece(pr).rank);
-        }
-    }
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-    return out;
-}
-
-// Each failed group merged with every live group whose core touches its own, and run again
-// once. When the merged tile fails too, it is split back into the groups it was made of: the
-// neighbours run again as they were (the same result as before), and the groups that failed
-// alone get their last try (retry_whole). A merge the memory pool cannot hold is not tried.
-void TiledRun::Impl::retry_merged(const std::vector<std::pair<std::size_t, std::string>>& failed, const TileProgress& progress)
-{
-    const TileRunner runner(store, layout, groups, meta, options, tiling.max_growth);
-    const std::vector<std::size_t> live = groups.live(layout);
-    const std::uint64_t cap = max_tile_vertices();
-    std::vector<std::pair<std::size_t, std::size_t>> pairs;
-    std::map<std::size_t, std::string> reasons; // failed alone: group -> message
-    std::vector<std::pair<std::size_t, std::string>> alone; // no merge possible: straight to the last try
-    for (const auto& [g, reason] : failed) {
-        const tiling::Box core = group_core(layout, groups, g);
-        std::uint64_t vertices = runner.vertices(g);
-        std::vector<std::size_t> neighbours;
-        for (std::size_t h : live) {
-            const tiling::Box other = group_core(layout, groups, h);
-            if (h != g && other.xmin <= core.xmax && core.xmin <= other.xmax && other.ymin <= core.ymax && core.ymin <= other.ymax) {
-                neighbours.push_back(h);
-                vertices += runner.vertices(h);
-            }
-        }
-        if (neighbours.empty() || (cap > 0 && vertices > cap)) {
-            alone.emplace_back(g, reason);
-            continue;
-        }
-        reasons.emplace(g, reason);
-        for (std::size_t h : neighbours) {
-            pairs.emplace_back(std::min(g, h), std::max(g, h));
-        }
-    }
-    retry_whole(alone, "alone");
-    if (pairs.empty()) {
-        save_groups();
-        return;
-    }
-    // What each merged group is made of, to split it back.
-    struct Part {
-        std::vector<std::size_t> leaves;
-        double halo;
-        std::uint32_t runs;
-        std::string reason; ///< "" for a neighbour that did not fail
-    };
-    std::map<std::size_t, Part> parts; // old group -> part
-    for (const auto& [a, b] : pairs) {
-        for (std::size_t g : {a, b}) {
-            auto it = reasons.find(g);
-            parts.try_emplace(g, Part{groups.leaves[g], groups.halo[g], groups.runs[g], it == reasons.end() ? "" : it->second});
-        }
-    }
-    const std::size_t seam_merges = groups.seam_merges;
-    const std::vector<std::size_t> added = merge_groups(store, groups, pairs);
-    groups.seam_merges = seam_merges; // not a seam that disagreed
-    save_groups();
-    const std::vector<std::pair<std::size_t, std::string>> again = run_once(added, progress);
-    if (again.empty()) {
-        return;
-    }
-    std::vector<std::size_t> rerun;
-    std::vector<std::pair<std::size_t, std::string>> dropped;
-    for (const auto& [merged, message] : again) {
-        const std::vector<std::size_t> leaves = groups.leaves[merged];
-        groups.leaves[merged].clear();
-        for (const auto& [old, part] : parts) {
-            if (std::find(leaves.begin(), leaves.end(), part.leaves.front()) == leaves.end()) {
-                continue;
-            }
-            const std::size_t id = groups.leaves.size();
-            for (std::size_t leaf : part.leaves) {
-                groups.of_leaf[leaf] = id;
-            }
-            groups.leaves.push_back(part.leaves);
-            groups.halo.push_back(part.halo);
-            groups.runs.push_back(part.runs);
-            if (part.reason.empty()) {
-                rerun.push_back(id);
-            } else {
-                dropped.emplace_back(id, part.reason);
-            }
-        }
-    }
-    save_groups();
-    retry_whole(dropped, "alone and merged with its neighbours");
-    save_groups(); // the runs the last tries added
-    run_groups(rerun, progress, false);
 }
 
 TiledRun::TiledRun(tiling::WorkStore& store, const SnapOptions& options, const TilingOptions& tiling,

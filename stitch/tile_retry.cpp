@@ -1,13 +1,81 @@
 // A tile whose engine failed (with OnError::skip): retried merged with its neighbours, then
-// untiled in its region, and when that fails too, committed as failed with its features reported.
+// untiled in its region, and when that fails too, committed as failed with its features reported
+// (TileRunner::fail, and the FIDs the messages name).
 #include "stitch/tiled_snap_impl.hpp"
 
 #include "stitch/seams.hpp"
+#include "stitch/spool.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 namespace trisnap::stitch {
+
+void TileRunner::fail(std::size_t group, const std::string& reason) const
+{
+    const tiling::TileJobInput in = gather(group, m_groups.halo[group]);
+    TileReport report;
+    report.id = m_groups.leaves[group].front();
+    report.leaves = m_groups.leaves[group].size();
+    report.core = group_core(m_layout, m_groups, group);
+    report.halo = m_groups.halo[group];
+    report.features = in.features.size();
+    report.input_vertices = in.vertices;
+    report.failed = true;
+    report.failure = reason;
+    std::vector<std::pair<std::uint64_t, const tiling::TileFeature*>> by_rank;
+    for (const tiling::TileFeature& f : in.features) {
+        by_rank.emplace_back(f.rank, &f);
+    }
+    std::sort(by_rank.begin(), by_rank.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    report.problems = by_rank.size();
+    const std::string features = describe(in.features);
+    std::vector<Piece> pieces;
+    for (const auto& [rank, f] : by_rank) {
+        Piece piece;
+        piece.rank = rank;
+        Problem p;
+        p.feature_id = f->feature.id;
+        p.code = ProblemCode::tile_failed;
+        p.message = "tile " + std::to_string(report.id) + " (" + features + ") failed " + reason +
+                    "; not written (--on-error skip)";
+        const Geometry& g = f->feature.geometry;
+        const Path* first = !g.polygons.empty() && !g.polygons[0].rings.empty() ? &g.polygons[0].rings[0]
+                            : !g.lines.empty()                                  ? &g.lines[0]
+                                                                                : nullptr;
+        p.x = first && !first->empty() ? first->front().x : std::nan("");
+        p.y = first && !first->empty() ? first->front().y : std::nan("");
+        piece.problems.push_back(std::move(p));
+        pieces.push_back(std::move(piece));
+    }
+    write_files(group, report, pieces, {});
+}
+
+std::string TileRunner::describe_features(std::size_t group) const
+{
+    return describe(gather(group, m_groups.halo[group]).features);
+}
+
+std::string TileRunner::describe(const std::vector<tiling::TileFeature>& features) const
+{
+    constexpr std::size_t k_named = 8;
+    std::vector<std::int64_t> fids;
+    FeatureLookup lookup(m_store);
+    for (const tiling::TileFeature& f : features) {
+        bool has_z = false;
+        fids.push_back(m_meta.fids_unique ? f.feature.id : lookup.at(f.rank, has_z).id);
+    }
+    std::sort(fids.begin(), fids.end());
+    std::string text = std::to_string(fids.size()) + (fids.size() == 1 ? " feature: FID " : " features: FIDs ");
+    for (std::size_t k = 0; k < fids.size() && k < k_named; ++k) {
+        text += (k ? ", " : "") + std::to_string(fids[k]);
+    }
+    if (fids.size() > k_named) {
+        text += " and " + std::to_string(fids.size() - k_named) + " more";
+    }
+    return text;
+}
 
 // The last try of each failed group: its region untiled, every feature meeting it given whole
 // (an untiled run's view of it: no shortcut or detour edge), one group at a time with the whole

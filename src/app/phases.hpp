@@ -91,13 +91,7 @@ bool load_read(tiling::WorkStore& store, std::size_t problem_bytes, ReadSummary&
 /// feature in input order through `writer`, layer k to the writer's layer k (attributes and
 /// FIDs kept, geometry replaced by the snapped one). Fills written/dropped/unwritable, in total
 /// and per layer, and adds the features' problems to the result's log (a phase of its own).
-/// `overlap`: with threads > 1 the stitched features are assembled on a thread of their own, up
-/// to max_bytes of coordinates ahead of the writer (app/merger_feed.hpp); the output is the same.
-struct WriteOverlap {
-    int threads = 1;
-    std::uint64_t max_bytes = 0;
-};
 void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerger& merger, LayerWriter& writer,
-                 RunResult& result, Progress& progress, const InterruptGuard& interrupt, const WriteOverlap& overlap);
+                 RunResult& result, Progress& progress, const InterruptGuard& interrupt);
 
 } // namespace trisnap

@@ -1,6 +1,5 @@
 #include "app/run_phases.hpp"
 
-#include "app/command.hpp"
 #include "app/disk_space.hpp"
 #include "app/memory.hpp"
 #include "config/errors.hpp"
@@ -241,11 +240,7 @@ void RunPhases::write(Plan& plan, LayerWriter& writer)
 {
     phase("write", [&] {
         const std::unique_ptr<stitch::OutputMerger> merger = m_run->output();
-        // Assembly ahead of the writer on a second core, within 1/64 of the memory limit.
-        WriteOverlap overlap;
-        overlap.threads = m_tiling.threads > 0 ? m_tiling.threads : available_cores();
-        overlap.max_bytes = m_budget.memory_limit > 0 ? m_budget.memory_limit / 64 : std::uint64_t{64} << 20;
-        write_layer(plan, m_work.store(), *merger, writer, m_result, m_progress, m_interrupt, overlap);
+        write_layer(plan, m_work.store(), *merger, writer, m_result, m_progress, m_interrupt);
         if (writer.output_in_place()) {
             m_interrupt.outputs_in_place(); // streamed, or its transaction committed: nothing takes it back
         }

@@ -5,7 +5,6 @@
 #include "app/phases.hpp"
 
 #include "app/collapse_guard.hpp"
-#include "app/merger_feed.hpp"
 
 #include "io/io_error.hpp"
 #include "io/ogr_geometry.hpp"
@@ -62,7 +61,7 @@ private:
 
 class Writer {
 public:
-    Writer(Plan& plan, MergerFeed& merger, LayerWriter& writer, RunResult& result)
+    Writer(Plan& plan, stitch::OutputMerger& merger, LayerWriter& writer, RunResult& result)
         : m_plan(plan), m_merger(merger), m_writer(writer), m_result(result),
           m_rejected(rejected_features(result.problems))
     {
@@ -82,7 +81,7 @@ private:
     void vanished(std::uint32_t k, const RecordEntry& e, bool reported, bool rejected);
 
     Plan& m_plan;
-    MergerFeed& m_merger;
+    stitch::OutputMerger& m_merger;
     LayerWriter& m_writer;
     RunResult& m_result;
     std::set<std::pair<std::uint32_t, std::int64_t>> m_rejected; ///< (layer, FID) the engine rejected (109)
@@ -179,12 +178,11 @@ std::size_t write_features(Plan& plan, std::uint32_t k, std::size_t count, std::
 } // namespace
 
 void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerger& merger, LayerWriter& writer,
-                 RunResult& result, Progress& progress, const InterruptGuard& interrupt, const WriteOverlap& overlap)
+                 RunResult& result, Progress& progress, const InterruptGuard& interrupt)
 {
     RecordLog log(store);
     result.problems.begin_phase("problems-write-"); // runs of a write that stopped go
-    MergerFeed feed([&merger](stitch::OutputItem& item) { return merger.next(item); }, overlap.threads, overlap.max_bytes);
-    Writer w(plan, feed, writer, result);
+    Writer w(plan, merger, writer, result);
     // The count is what went into OUT, of the features read: a bar at 292/292 for a layer that
     // collapsed entirely (--force) said "written" of features that were not.
     progress.start("write", static_cast<std::int64_t>(result.input), "features written");
@@ -193,7 +191,6 @@ void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerge
         seq = write_features(plan, static_cast<std::uint32_t>(k), result.layers[k].input, seq, log, w, progress, interrupt);
     }
     progress.finish(static_cast<std::int64_t>(w.written()));
-    feed.stop(); // the merger's counts are read below
     interrupt.check();
     // Before OUT is committed: nothing goes into place. Features of failed tiles (303) are not
     // collapses: they are reported, and --on-error skip asked for them to be left out.

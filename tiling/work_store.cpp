@@ -292,8 +292,13 @@ bool RecordReader::fill(std::size_t n)
     }
     m_buffer.erase(0, m_pos);
     m_pos = 0;
-    std::size_t want = std::max(n, m_capacity);
     const std::size_t have = m_buffer.size();
+    // A buffer's worth, but no more than the file holds: a reader of a small file (a tile's
+    // bucket, a seam file) would otherwise allocate and zero the whole buffer for a few records.
+    // The size is a hint only: at least what the record needs is always asked for.
+    const std::uint64_t size = m_file.size();
+    const std::uint64_t remaining = size > m_consumed ? size - m_consumed : 0;
+    const std::size_t want = std::max<std::size_t>(n - have, static_cast<std::size_t>(std::min<std::uint64_t>(m_capacity, remaining)));
     m_buffer.resize(have + want);
     std::size_t got = 0;
     while (got < want) {
@@ -303,6 +308,7 @@ bool RecordReader::fill(std::size_t n)
         }
         got += k;
     }
+    m_consumed += got;
     m_buffer.resize(have + got);
     return m_buffer.size() >= n;
 }

@@ -110,6 +110,7 @@ private:
     std::size_t m_capacity;
     std::string m_buffer;
     std::size_t m_pos = 0;
+    std::uint64_t m_consumed = 0; ///< bytes read from the file so far
 };
 
 } // namespace trisnap::tiling

@@ -104,25 +104,32 @@ void report_collapsed_edges(Mesh& mesh, const FaceLabels& labels, const std::vec
 {
     std::vector<std::size_t> count(clean.size(), 0);
     std::vector<Coord> where(clean.size());
-    auto& tri = mesh.tri();
-    mesh.for_each_owned_edge([&](std::uint32_t u, std::uint32_t v, OwnerRef ref) {
-        const Owner& o = mesh.owner_at(ref.owner);
-        cdt::Face_handle fh;
-        int i = 0;
-        if (o.line || !tri.is_edge(mesh.vertex(u).handle, mesh.vertex(v).handle, fh, i)) {
-            return;
+    std::vector<OwnerRef> refs;
+    // The triangulation's constrained edges with their owners (an owned pair that is no edge of
+    // the triangulation bounds nothing); the counts and the smallest midpoint do not depend on
+    // the order.
+    for (const auto& [fh, i] : mesh.tri().finite_edges()) {
+        if (!fh->is_constrained(i)) {
+            continue;
         }
-        if (member(labels, fh, o.feature) != member(labels, fh->neighbor(i), o.feature)) {
-            return;
+        const std::uint32_t u = fh->vertex(cdt::Triangulation::cw(i))->info().id;
+        const std::uint32_t v = fh->vertex(cdt::Triangulation::ccw(i))->info().id;
+        refs.clear();
+        mesh.owner_refs(u, v, refs);
+        for (const OwnerRef& ref : refs) {
+            const Owner& o = mesh.owner_at(ref.owner);
+            if (o.line || member(labels, fh, o.feature) != member(labels, fh->neighbor(i), o.feature)) {
+                continue;
+            }
+            const Coord mid = midpoint(mesh, std::min(u, v), std::max(u, v));
+            if (!region.contains(mid.x, mid.y)) {
+                continue;
+            }
+            if (count[o.feature]++ == 0 || std::tie(mid.x, mid.y) < std::tie(where[o.feature].x, where[o.feature].y)) {
+                where[o.feature] = mid;
+            }
         }
-        const Coord mid = midpoint(mesh, u, v);
-        if (!region.contains(mid.x, mid.y)) {
-            return;
-        }
-        if (count[o.feature]++ == 0 || std::tie(mid.x, mid.y) < std::tie(where[o.feature].x, where[o.feature].y)) {
-            where[o.feature] = mid;
-        }
-    });
+    }
     for (std::size_t f = 0; f < clean.size(); ++f) {
         if (count[f] == 0 || !written[f]) {
             continue;

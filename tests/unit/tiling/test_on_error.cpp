@@ -5,6 +5,7 @@
 #include "tiled_check.hpp"
 
 #include "generators.hpp"
+#include "spool_input.hpp"
 #include "stitch/tiled_snap.hpp"
 #include "tiling/work_store.hpp"
 
@@ -128,15 +129,7 @@ TEST(OnErrorCancel, SkipNeverSwallowsACancelFromInsideATile)
     const double t = 0.01;
     const auto input = perturbed_grid_coverage(60, 60, 1.0, 0.02, 7, 3, 0.004);
     auto store = tiling::make_memory_store();
-    stitch::SpoolMeta meta;
-    {
-        stitch::FeatureSpool spool(*store, t, 100000, 1 << 16);
-        std::vector<Problem> problems;
-        for (std::size_t i = 0; i < input.size(); ++i) {
-            spool.add(i, input[i].id, input[i].geometry, problems);
-        }
-        meta = spool.finish();
-    }
+    const stitch::SpoolMeta meta = spool_features(*store, input, t);
     stitch::TilingOptions tiling;
     tiling.plan.vertex_budget = 10000000;
     tiling.threads = 1;

@@ -3,6 +3,7 @@
 // save/load and leaf splits; a tiled run on a directory store with a small memory pool (tiles
 // split to fit) and interrupted between tiles gives the untiled output.
 #include "generators.hpp"
+#include "spool_input.hpp"
 #include "tiled_check.hpp"
 
 #include "stitch/spool.hpp"
@@ -106,6 +107,45 @@ TEST_P(StoreTest, RecordsStreamAndSeekAndRefuseTruncation)
             }
         },
         tiling::work_error);
+}
+
+// RecordReader sizes its reads by InFile::size() (so a small file does not fill a whole buffer),
+// but only as a hint: a file whose size says less or more than it holds still reads whole.
+class MisreportedSize : public tiling::InFile {
+public:
+    MisreportedSize(std::unique_ptr<tiling::InFile> file, std::uint64_t claimed) : m_file(std::move(file)), m_claimed(claimed) {}
+    std::size_t read(char* out, std::size_t n) override { return m_file->read(out, n); }
+    void read_at(std::uint64_t offset, char* out, std::size_t n) override { m_file->read_at(offset, out, n); }
+    std::uint64_t size() const override { return m_claimed; }
+
+private:
+    std::unique_ptr<tiling::InFile> m_file;
+    std::uint64_t m_claimed;
+};
+
+TEST(RecordReader, TheFileSizeIsOnlyAHint)
+{
+    auto store = tiling::make_memory_store();
+    {
+        auto f = store->create("r");
+        tiling::RecordWriter w(*f);
+        for (int i = 0; i < 300; ++i) {
+            w.write(std::string(static_cast<std::size_t>(i % 53), static_cast<char>('a' + i % 26)));
+        }
+        f->commit();
+    }
+    const std::uint64_t size = store->open("r")->size();
+    for (const std::uint64_t claimed : {std::uint64_t{0}, size / 3, size, 10 * size}) {
+        MisreportedSize in(store->open("r"), claimed);
+        tiling::RecordReader reader(in, 100);
+        std::string record;
+        int n = 0;
+        while (reader.next(record)) {
+            ASSERT_EQ(record, std::string(static_cast<std::size_t>(n % 53), static_cast<char>('a' + n % 26))) << claimed;
+            ++n;
+        }
+        EXPECT_EQ(n, 300) << "size() claimed " << claimed << " of " << size << " bytes";
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Stores, StoreTest, ::testing::Values(false, true),
@@ -237,12 +277,7 @@ TEST(TiledRun, SmallPoolSplitsTilesAndAResumedRunEqualsUntiled)
     std::size_t runs_first = 0;
     {
         auto store = tiling::make_directory_store(dir.string());
-        stitch::FeatureSpool spool(*store, t, 1000, 64); // a sampled plan, FIDs checked in runs
-        std::vector<Problem> problems;
-        for (std::size_t i = 0; i < input.size(); ++i) {
-            spool.add(i, input[i].id, input[i].geometry, problems);
-        }
-        const stitch::SpoolMeta meta = spool.finish();
+        const stitch::SpoolMeta meta = spool_features(*store, input, t, 1000, 64); // a sampled plan, FIDs checked in runs
         EXPECT_TRUE(meta.fids_unique);
         EXPECT_GT(meta.sample.level, 0);
         stitch::TiledRun run(*store, options, tiling, schedule);
@@ -298,12 +333,7 @@ TEST(TiledRun, StitchReportsTilesCheckedOfARealTotal)
     const double t = 0.01;
     const auto input = perturbed_grid_coverage(16, 16, 1.0, 0.2, 9, 1, 0.004);
     auto store = tiling::make_memory_store();
-    stitch::FeatureSpool spool(*store, t, 100000, 1 << 10);
-    std::vector<Problem> problems;
-    for (std::size_t i = 0; i < input.size(); ++i) {
-        spool.add(i, input[i].id, input[i].geometry, problems);
-    }
-    const stitch::SpoolMeta meta = spool.finish();
+    const stitch::SpoolMeta meta = spool_features(*store, input, t, 100000, 1 << 10);
     stitch::TilingOptions tiling;
     tiling.plan.tile_size = 4.0;
     tiling.threads = 2;
@@ -339,17 +369,9 @@ TEST(TiledRun, OneBigTileReportsProgressInsideAndStopsInside)
     tiling.threads = 1;
     stitch::ScheduleOptions schedule;
     schedule.threads = 1;
-    auto spool_into = [&](tiling::WorkStore& store) {
-        stitch::FeatureSpool spool(store, t, 100000, 1 << 16);
-        std::vector<Problem> problems;
-        for (std::size_t i = 0; i < input.size(); ++i) {
-            spool.add(i, input[i].id, input[i].geometry, problems);
-        }
-        return spool.finish();
-    };
     {
         auto store = tiling::make_memory_store();
-        const stitch::SpoolMeta meta = spool_into(*store);
+        const stitch::SpoolMeta meta = spool_features(*store, input, t);
         stitch::TiledRun run(*store, options, tiling, schedule);
         run.plan(meta);
         ASSERT_EQ(run.layout().plan.size(), 1u);
@@ -365,7 +387,7 @@ TEST(TiledRun, OneBigTileReportsProgressInsideAndStopsInside)
         EXPECT_TRUE(run.missing().empty());
     }
     auto store = tiling::make_memory_store();
-    const stitch::SpoolMeta meta = spool_into(*store);
+    const stitch::SpoolMeta meta = spool_features(*store, input, t);
     int checks = 0;
     stitch::ScheduleOptions stopping = schedule;
     stopping.check_cancel = [&] {

@@ -4,6 +4,7 @@
 #include "generators.hpp"
 #include "record_checks.hpp"
 #include "snap_harness.hpp"
+#include "spool_input.hpp"
 
 #include "stitch/spool.hpp"
 #include "stitch/tiled_snap.hpp"
@@ -195,12 +196,7 @@ TEST(TileResultRecords, FilesOfARealRunDecodeAndEncodeToTheSameBytes)
         }
     }
     auto store = tiling::make_memory_store();
-    stitch::FeatureSpool spool(*store, t, 100000, 1 << 10);
-    std::vector<Problem> problems;
-    for (std::size_t i = 0; i < input.size(); ++i) {
-        spool.add(i, input[i].id, input[i].geometry, problems);
-    }
-    const stitch::SpoolMeta meta = spool.finish();
+    const stitch::SpoolMeta meta = spool_features(*store, input, t, 100000, 1 << 10);
     stitch::TilingOptions tiling;
     tiling.plan.tile_size = 3.0;
     tiling.threads = 1;

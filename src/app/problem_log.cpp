@@ -50,7 +50,7 @@ public:
         if (m_heap.empty()) {
             return false;
         }
-        const std::size_t k = m_heap.top().second;
+        const std::size_t k = m_heap.top();
         m_heap.pop();
         out = std::move(m_heads[k]);
         pull(k);
@@ -58,19 +58,20 @@ public:
     }
 
 private:
+    // On the runs' current heads: the heap's top is the smallest, ties to the earlier run.
     struct Later {
         const std::vector<Problem>* heads;
-        bool operator()(const std::pair<std::size_t, std::size_t>& a, const std::pair<std::size_t, std::size_t>& b) const
+        bool operator()(std::size_t a, std::size_t b) const
         {
-            const Problem& pa = (*heads)[a.second];
-            const Problem& pb = (*heads)[b.second];
+            const Problem& pa = (*heads)[a];
+            const Problem& pb = (*heads)[b];
             if (problem_order(pa, pb)) {
                 return false;
             }
             if (problem_order(pb, pa)) {
                 return true;
             }
-            return a.second > b.second;
+            return a > b;
         }
     };
     void pull(std::size_t k)
@@ -79,11 +80,11 @@ private:
             std::string record;
             if (m_readers[k]->next(record)) {
                 m_heads[k] = get_logged(record);
-                m_heap.emplace(0, k);
+                m_heap.push(k);
             }
         } else if (m_tail_next < m_tail.size()) {
             m_heads[k] = std::move(m_tail[m_tail_next++]);
-            m_heap.emplace(0, k);
+            m_heap.push(k);
         }
     }
 
@@ -92,8 +93,7 @@ private:
     std::vector<Problem> m_tail;
     std::size_t m_tail_next = 0;
     std::vector<Problem> m_heads;
-    std::priority_queue<std::pair<std::size_t, std::size_t>, std::vector<std::pair<std::size_t, std::size_t>>, Later> m_heap{
-        Later{&m_heads}};
+    std::priority_queue<std::size_t, std::vector<std::size_t>, Later> m_heap{Later{&m_heads}}; ///< runs by head
 };
 
 } // namespace

@@ -58,11 +58,15 @@ using Fbi = CGAL::Triangulation_face_base_with_info_2<FaceInfo, Kernel>;
 using Fb = TrackedFace<Kernel, CGAL::Constrained_triangulation_face_base_2<Kernel, Fbi>>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
 using Itag = CGAL::No_constraint_intersection_requiring_constructions_tag;
+/// CtBase: the plain constrained triangulation whose edits make no Delaunay flips (the
+/// triangulation itself, or its base class): core/mesh_hubs.cpp bounds CGAL's flips through it.
 #ifdef TRISNAP_PLAIN_CT
 using Triangulation = CGAL::Constrained_triangulation_2<Kernel, Tds, Itag>;
+using CtBase = Triangulation;
 inline constexpr bool k_delaunay = false;
 #else
 using Triangulation = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds, Itag>;
+using CtBase = Triangulation::Ctr;
 inline constexpr bool k_delaunay = true;
 #endif
 using Vertex_handle = Triangulation::Vertex_handle;

@@ -62,6 +62,11 @@ public:
     std::size_t intersections() const { return m_intersections; }
     /// Faces the searches have walked so far (a measure of the snapper's work).
     std::size_t faces_walked() const { return m_faces_walked; }
+    /// The work of CGAL's hole fills so far: the sum of the squared degrees of the vertices it
+    /// removed (fill_hole_delaunay makes d^2 tests), and how many removals went through rounds of
+    /// flips first (core/mesh_hubs.cpp).
+    std::size_t removal_work() const { return m_removal_work; }
+    std::size_t hub_removals() const { return m_hub_removals; }
     static constexpr std::size_t frame_vertices = 4;
     /// A stamp no face or vertex carries yet, for marking sets of faces.
     std::uint32_t fresh_stamp() { return next_stamp(); }
@@ -142,6 +147,14 @@ private:
     bool reroute(cdt::Vertex_handle r, cdt::Vertex_handle l, cdt::Vertex_handle via);
     void push_job(cdt::Vertex_handle a, cdt::Vertex_handle b, std::uint32_t first, std::uint32_t count);
     void constrain(const Job& job);
+    // mesh_hubs.cpp
+    static constexpr std::size_t k_hub_degree = 64; ///< above it, a vertex is removed by rounds of flips
+    cdt::Vertex_handle insert_bounded(const cdt::Point& p, cdt::Triangulation::Locate_type lt, cdt::Face_handle loc,
+                                      int li);
+    void propagate_flip(cdt::Face_handle f, int i, int& budget);
+    void remove_incident_constraints_bounded(cdt::Vertex_handle h);
+    void remove_bounded(cdt::Vertex_handle h);
+    void shrink_hub(cdt::Vertex_handle h);
     // mesh_edit.cpp
     void collect_constraints(cdt::Vertex_handle h, std::span<const std::uint32_t> olds);
     cdt::Vertex_handle insert_target(double x, double y, const std::uint32_t* split, cdt::Face_handle hint);
@@ -161,6 +174,8 @@ private:
     std::uint32_t m_stamp = 0;
     std::size_t m_intersections = 0;
     std::size_t m_faces_walked = 0;
+    std::size_t m_removal_work = 0;
+    std::size_t m_hub_removals = 0;
     // Scratch of insert_segment() and replace(), kept to avoid allocating per call.
     std::vector<Job> m_jobs;
     std::vector<OwnerRef> m_arena;
@@ -169,6 +184,7 @@ private:
     std::vector<std::pair<std::uint32_t, std::uint32_t>> m_new_edges;
     std::vector<std::uint32_t> m_ring;
     std::vector<cdt::Face_handle> m_walk;
+    std::vector<cdt::Face_handle> m_hub_faces;
     mutable std::vector<OwnerRef> m_refs;
 };
 

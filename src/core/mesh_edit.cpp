@@ -45,7 +45,7 @@ void Mesh::collect_constraints(cdt::Vertex_handle h, std::span<const std::uint32
         }
         m_saved.push_back(Saved{m_vertices[n].handle, first, count});
     }
-    m_tri.remove_incident_constraints(h);
+    remove_incident_constraints_bounded(h);
 }
 
 cdt::Vertex_handle Mesh::insert_target(double x, double y, const std::uint32_t* split, cdt::Face_handle hint)
@@ -99,7 +99,7 @@ std::uint32_t Mesh::replace(std::span<const std::uint32_t> olds, double x, doubl
         collect_constraints(m_vertices[o].handle, olds);
     }
     for (std::uint32_t o : olds) {
-        m_tri.remove(m_vertices[o].handle);
+        remove_bounded(m_vertices[o].handle);
     }
     // Faces around the old vertices are gone: locate from a surviving neighbour.
     cdt::Face_handle hint;

@@ -50,7 +50,7 @@ cdt::Vertex_handle Mesh::insert_point(const cdt::Point& p, cdt::Face_handle hint
         el = loc->vertex(cdt::Triangulation::cw(li));
         m_edge_owners.take(id(er), id(el), m_arena);
     }
-    const cdt::Vertex_handle v = m_tri.insert(p, lt, loc, li);
+    const cdt::Vertex_handle v = insert_bounded(p, lt, loc, li);
     add_record(v, std::nan(""));
     m_vertices[id(v)].weight = 0;
     for (std::size_t k = first; k < m_arena.size(); ++k) {

@@ -81,6 +81,9 @@ std::vector<AdversarialCase> adversarial_cases(double scale) {
     // Spacing 2 pi 50 / n: 0.0079 at n = 40 k.
     out.push_back({"circle", {circle(1, scaled(40'000), 50.0 * scale, 0.0, 3)}, 1e-4, 0.01});
     out.push_back({"circle_jittered", {circle(1, scaled(100'000), 125.0 * scale, 0.003 * scale, 3)}, 1e-4, 0.01});
+    // Spacing 2 pi 20 / 200 k = 6.3e-4, sixteen vertices per t: merged vertices become hubs of
+    // the circle's inside (core/mesh_hubs.cpp).
+    out.push_back({"circle_dense", {circle(1, scaled(200'000), 20.0 * scale, 0.0, 1)}, 1e-4, 0.01});
     return out;
 }
 

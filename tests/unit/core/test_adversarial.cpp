@@ -118,6 +118,49 @@ TEST(Adversarial, QueueStaysLinearInTheVerticesWhenEverythingIsWithinT) {
     EXPECT_LE(out.peak_queue, 16 * vertices);
 }
 
+// An exact circle with 16 vertices per t. A merged vertex sits inside the circle by the sagitta,
+// and in a Delaunay triangulation of nearly co-circular points such a vertex neighbours nearly
+// the whole circle (degree 19,996 of 20,000 measured). CGAL refills the hole of a removed vertex
+// with d^2 in-circle tests, so with every merge paying for a hub the run was quadratic (10.6 s at
+// 20,000 vertices, 925 s at 10^6). The engine removes a hub by rounds of flips first and bounds
+// an insertion's flips (core/mesh_hubs.cpp): the hole-filling work (the sum of the squared
+// degrees CGAL removed) must grow near linearly with the circle, hubs must really have been
+// met, the fix-point must hold, and the result keep the contract.
+TEST(Adversarial, HubsOfAnExactCircleAreRemovedAtBoundedCost) {
+    constexpr double t = 0.01;
+    struct Run {
+        std::size_t work = 0, hubs = 0, merges = 0;
+    };
+    const auto run = [&](int n) {
+        // Spacing 2 pi r / n = 6.3e-4, a sixteenth of t.
+        const std::vector<Feature> in = {circle(1, n, n * 1e-4, 0.0, 1)};
+        std::vector<Problem> problems;
+        const std::vector<detail::CleanFeature> clean = detail::clean_input(in, t, problems);
+        detail::Mesh mesh(clean, t);
+        detail::SnapperParams params;
+        params.vertex_threshold = t;
+        params.edge_threshold = t / 2;
+        params.sliver_threshold = t / 2;
+        params.max_operations = 20 * mesh.vertex_slots() + 1000;
+        params.verify = true;
+        const detail::SnapperOutcome out = detail::run_snapper(mesh, params);
+        EXPECT_TRUE(out.converged) << n;
+        EXPECT_EQ(out.fixpoint_misses, 0u) << n;
+        return Run{mesh.removal_work(), mesh.hub_removals(), out.merges};
+    };
+    const Run a = run(10'000);
+    const Run b = run(20'000);
+    std::cout << "circle x2: removal work " << a.work << " -> " << b.work << ", hub removals " << a.hubs << " -> "
+              << b.hubs << ", merges " << a.merges << " -> " << b.merges << "\n";
+    EXPECT_GT(b.merges, 15'000u) << "the tolerance must make real work";
+    EXPECT_GT(b.hubs, 0u) << "the circle must make hubs, or this test checks nothing";
+    EXPECT_LE(b.work, 3 * a.work);
+    const std::vector<Feature> in = {circle(1, 20'000, 2.0, 0.0, 1)};
+    const CheckedRun checked = snap_and_check(in, options_at(t), in.size());
+    ASSERT_EQ(checked.result.features.size(), 1u);
+    EXPECT_FALSE(checked.result.features[0].geometry.empty());
+}
+
 TEST(Adversarial, ToleranceLargerThanTheWholeLayerCollapsesEverythingWithoutTriangulating) {
     // Every vertex within t of every other: no two output vertices could be t apart, so every
     // feature collapses, and the engine says so at once (Andorra at 1 degree ran out of memory

@@ -98,7 +98,7 @@ std::uint32_t EdgeOwners::new_node(std::uint32_t packed, std::uint32_t next)
     return static_cast<std::uint32_t>(m_nodes.size() - 1);
 }
 
-void EdgeOwners::add(std::uint32_t from, std::uint32_t to, OwnerRef ref)
+bool EdgeOwners::add(std::uint32_t from, std::uint32_t to, OwnerRef ref)
 {
     const bool low_to_high = (from < to) == ref.forward;
     const std::uint32_t packed = (ref.owner << 1) | (low_to_high ? 1u : 0u);
@@ -107,13 +107,14 @@ void EdgeOwners::add(std::uint32_t from, std::uint32_t to, OwnerRef ref)
     const std::uint32_t node = new_node(packed, k_none);
     if (m_heads[s] == k_none) {
         m_heads[s] = node;
-        return;
+        return true;
     }
     std::uint32_t n = m_heads[s];
     while (m_nodes[n].next != k_none) {
         n = m_nodes[n].next;
     }
     m_nodes[n].next = node;
+    return false;
 }
 
 void EdgeOwners::append(std::uint32_t head, bool flip, std::vector<OwnerRef>& out) const

@@ -23,7 +23,8 @@ struct OwnerRef {
 class EdgeOwners {
 public:
     /// Adds an owner to the edge from-to (creating the edge), running from -> to when `forward`.
-    void add(std::uint32_t from, std::uint32_t to, OwnerRef ref);
+    /// Returns whether the edge was created.
+    bool add(std::uint32_t from, std::uint32_t to, OwnerRef ref);
     /// Appends the owners of from-to to `out`, oriented from -> to, and removes the edge.
     void take(std::uint32_t from, std::uint32_t to, std::vector<OwnerRef>& out);
     /// Appends the owners of from-to to `out`, oriented from -> to.
@@ -43,6 +44,17 @@ public:
             const auto v = static_cast<std::uint32_t>(m_keys[s]);
             for (std::uint32_t n = m_heads[s]; n != k_none; n = m_nodes[n].next) {
                 f(u, v, unpack(m_nodes[n].packed));
+            }
+        }
+    }
+
+    /// Calls f(u, v) once for every edge, u < v; order is the table's.
+    template <class F>
+    void for_each_edge(F&& f) const
+    {
+        for (const std::uint64_t k : m_keys) {
+            if (k != k_empty) {
+                f(static_cast<std::uint32_t>(k >> 32), static_cast<std::uint32_t>(k));
             }
         }
     }

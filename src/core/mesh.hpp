@@ -12,6 +12,7 @@
 #include "core/work_meter.hpp"
 
 #include <span>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -67,6 +68,12 @@ public:
     /// flips first (core/mesh_hubs.cpp).
     std::size_t removal_work() const { return m_removal_work; }
     std::size_t hub_removals() const { return m_hub_removals; }
+    /// Constrained edges at least this long (squared) are "long"; the mesh counts them as edits
+    /// make and remove edges. The snapper sets the length below which no edge can give a split
+    /// event; while no edge is that long, search_point's nearest-only walk need not reach the
+    /// edge radius (see there). 0 (the default) counts every edge.
+    void set_long_edge_length2(double len2);
+    std::size_t long_edges() const { return m_long_edges; }
     static constexpr std::size_t frame_vertices = 4;
     /// A stamp no face or vertex carries yet, for marking sets of faces.
     std::uint32_t fresh_stamp() { return next_stamp(); }
@@ -89,11 +96,17 @@ public:
     /// of it (not incident to v), with squared distances, whatever constraints lie between: a
     /// walk over the faces meeting the disk.
     /// `nearest_only`: the caller wants, of the vertices, only the nearest (and every vertex as
-    /// near): the walk then shrinks to the nearest distance found so far plus sqrt(r2_vertex) / 8
-    /// (never below sqrt(r2_edge)), and `vertices` holds the nearest ones and possibly others.
+    /// near), and of the edges only those at least the long-edge length: the walk then shrinks to
+    /// the nearest distance found so far plus an eighth of it (at least 64 ulps of the
+    /// coordinates), never below sqrt(r2_edge) while a long edge exists; `vertices` holds the
+    /// nearest ones and possibly others, `edges` every long edge within sqrt(r2_edge) and
+    /// possibly others. `passed_over` (edge_key pairs with v) names vertices that do not count
+    /// as the nearest: the walk shrinks to the nearest of the others, and `vertices` holds every
+    /// one of those as near as it (and possibly passed-over ones).
     void search_point(std::uint32_t v, double r2_vertex, double r2_edge,
                       std::vector<std::pair<double, std::uint32_t>>& vertices,
-                      std::vector<EdgeHit>& edges, bool nearest_only = false);
+                      std::vector<EdgeHit>& edges, bool nearest_only = false,
+                      const std::unordered_set<std::uint64_t>* passed_over = nullptr);
     /// Vertices within sqrt(r2) of the segment b-c (not b or c), with squared distances: a walk
     /// over faces meeting the capsule.
     void search_segment(std::uint32_t b, std::uint32_t c, double r2,
@@ -161,6 +174,29 @@ private:
     void merge_into(std::uint32_t target, std::span<const std::uint32_t> olds);
     void take_edge_z(std::uint32_t v, std::uint32_t b, std::uint32_t c);
     void one_ring(cdt::Vertex_handle h, std::vector<std::uint32_t>& out) const;
+    // Every owner goes in and out through these two, so the long edges stay counted.
+    void add_owner(std::uint32_t a, std::uint32_t b, OwnerRef ref)
+    {
+        if (m_edge_owners.add(a, b, ref)) {
+            count_edge(a, b, 1);
+        }
+    }
+    void take_owners(std::uint32_t a, std::uint32_t b, std::vector<OwnerRef>& out)
+    {
+        const std::size_t before = out.size();
+        m_edge_owners.take(a, b, out);
+        if (out.size() > before) {
+            count_edge(a, b, -1);
+        }
+    }
+    void count_edge(std::uint32_t a, std::uint32_t b, int delta)
+    {
+        const double dx = m_vertices[a].x - m_vertices[b].x;
+        const double dy = m_vertices[a].y - m_vertices[b].y;
+        if (dx * dx + dy * dy >= m_long2) {
+            m_long_edges += static_cast<std::size_t>(delta);
+        }
+    }
     std::uint32_t next_stamp();
 
     cdt::Triangulation m_tri;
@@ -175,6 +211,9 @@ private:
     std::size_t m_intersections = 0;
     std::size_t m_faces_walked = 0;
     std::size_t m_removal_work = 0;
+    double m_long2 = 0;
+    std::size_t m_long_edges = 0;
+    double m_ulp_margin = 0; ///< 64 ulps of the largest coordinate (the frame's)
     std::size_t m_hub_removals = 0;
     // Scratch of insert_segment() and replace(), kept to avoid allocating per call.
     std::vector<Job> m_jobs;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <tuple>
 
@@ -127,6 +128,12 @@ void Mesh::insert_points(const std::vector<CleanFeature>& features, double reach
         r.y = CGAL::to_double(unique[id].first.y());
         r.z = zs[id];
     }
+    // Every later vertex lies inside the frame, so its corners bound the coordinates' size.
+    double largest = 0;
+    for (const auto& [p, id] : unique) {
+        largest = std::max({largest, std::abs(CGAL::to_double(p.x())), std::abs(CGAL::to_double(p.y()))});
+    }
+    m_ulp_margin = 64 * (std::nextafter(largest, std::numeric_limits<double>::infinity()) - largest);
     m_forward.assign(unique.size(), cdt::k_no_id);
     m_vertex_stamp.assign(unique.size(), 0);
     m_vertex_d2.assign(unique.size(), 0.0);

@@ -34,7 +34,7 @@ void Mesh::collect_constraints(cdt::Vertex_handle h, std::span<const std::uint32
     for (std::size_t k = ring_start; k < m_ring.size(); ++k) {
         const std::uint32_t n = m_ring[k];
         const auto first = static_cast<std::uint32_t>(m_arena.size());
-        m_edge_owners.take(id(h), n, m_arena);
+        take_owners(id(h), n, m_arena);
         const auto count = static_cast<std::uint32_t>(m_arena.size() - first);
         if (count == 0) {
             continue;

@@ -48,14 +48,14 @@ cdt::Vertex_handle Mesh::insert_point(const cdt::Point& p, cdt::Face_handle hint
     if (lt == cdt::Triangulation::EDGE && loc->is_constrained(li)) {
         er = loc->vertex(cdt::Triangulation::ccw(li));
         el = loc->vertex(cdt::Triangulation::cw(li));
-        m_edge_owners.take(id(er), id(el), m_arena);
+        take_owners(id(er), id(el), m_arena);
     }
     const cdt::Vertex_handle v = insert_bounded(p, lt, loc, li);
     add_record(v, std::nan(""));
     m_vertices[id(v)].weight = 0;
     for (std::size_t k = first; k < m_arena.size(); ++k) {
-        m_edge_owners.add(id(er), id(v), m_arena[k]);
-        m_edge_owners.add(id(v), id(el), m_arena[k]);
+        add_owner(id(er), id(v), m_arena[k]);
+        add_owner(id(v), id(el), m_arena[k]);
     }
     if (er != cdt::Vertex_handle()) {
         m_new_edges.emplace_back(id(er), id(v));
@@ -109,7 +109,7 @@ void Mesh::constrain(const Job& job)
     m_tri.insert_constraint(job.a, job.b);
     m_new_edges.emplace_back(id(job.a), id(job.b));
     for (std::uint32_t k = job.first; k < job.first + job.count; ++k) {
-        m_edge_owners.add(id(job.a), id(job.b), m_arena[k]);
+        add_owner(id(job.a), id(job.b), m_arena[k]);
     }
 }
 
@@ -185,7 +185,7 @@ bool Mesh::reroute(cdt::Vertex_handle r, cdt::Vertex_handle l, cdt::Vertex_handl
         return false;
     }
     const auto first = static_cast<std::uint32_t>(m_arena.size());
-    m_edge_owners.take(id(r), id(l), m_arena);
+    take_owners(id(r), id(l), m_arena);
     const auto count = static_cast<std::uint32_t>(m_arena.size() - first);
     m_tri.remove_constrained_edge(f, i);
     push_job(via, l, first, count);

@@ -117,6 +117,7 @@ void Snapper::collect_unresolved()
 SnapperOutcome Snapper::run()
 {
     m_candidate.resize(m_mesh.vertex_slots());
+    m_mesh.set_long_edge_length2(std::max(0.0, long_edge2()));
     initial_scan(false);
     const cdt::ChangedFaces tracking(m_changed);
     for (;;) {

@@ -39,9 +39,11 @@ void Snapper::initial_scan(bool every_pair)
 // `every_pair` (the verifying scan) queues every pair, seen from its lower end, as before.
 void Snapper::discover_point(std::uint32_t v, bool every_pair)
 {
-    // One walk finds the edges within the edge threshold and the vertices within t (of which
-    // only the nearest matters unless a parked pair must be passed over).
-    m_mesh.search_point(v, m_vt2, m_et2, m_near, m_edges, !every_pair && m_parked_pairs.empty());
+    // One walk finds the edges within the edge threshold and the vertices within t, of which
+    // only the nearest not parked with v matters (a full walk with parked pairs, the whole layer
+    // per vertex at a tolerance near the layer's size, was most of CLC's 0.5-degree run).
+    m_mesh.search_point(v, m_vt2, m_et2, m_near, m_edges, !every_pair,
+                        m_parked_pairs.empty() ? nullptr : &m_parked_pairs);
     for (const EdgeHit& h : m_edges) {
         // Within t of an end of the edge the split is never applicable (it is left to the merge),
         // and the three vertices never move: such events are not queued.
@@ -89,18 +91,13 @@ bool Snapper::register_nearest(std::uint32_t v)
     return found;
 }
 
-// v's candidate (at squared distance `stale2`) died or was parked: its next one is at least as
-// far, and usually near, so the search grows from twice that distance out to t.
-void Snapper::find_candidate(std::uint32_t v, double stale2)
+// v's candidate died or was parked: its next one is the nearest vertex within t not parked
+// with v, which the nearest-only walk finds without covering the disk (the search that grew
+// from the stale distance out to t walked hundreds of vertices per call in a cluster).
+void Snapper::find_candidate(std::uint32_t v)
 {
-    double r2 = std::min(m_vt2, std::max(4 * stale2, m_vt2 / 256));
-    for (;;) {
-        m_mesh.search_point(v, r2, -1.0, m_near, m_edges);
-        if (register_nearest(v) || r2 >= m_vt2) {
-            return;
-        }
-        r2 = std::min(m_vt2, 16 * r2);
-    }
+    m_mesh.search_point(v, m_vt2, -1.0, m_near, m_edges, true, m_parked_pairs.empty() ? nullptr : &m_parked_pairs);
+    register_nearest(v);
 }
 
 // A merge event that will not be applied (a vertex died, or the pair is parked): a live end whose
@@ -109,7 +106,7 @@ void Snapper::merge_event_gone(const Event& e)
 {
     for (const auto& [x, other] : {std::pair{e.a, e.b}, std::pair{e.b, e.a}}) {
         if (alive(x) && x < m_candidate.size() && m_candidate[x].other == other) {
-            find_candidate(x, e.d2);
+            find_candidate(x);
         }
     }
 }
@@ -128,8 +125,7 @@ void Snapper::discover_segment(std::uint32_t b, std::uint32_t c)
     if (!alive(b) || !alive(c) || !m_mesh.is_constrained_edge(b, c)) {
         return;
     }
-    const double shortest2 = 4 * (m_vt2 - m_et2);
-    if (dist2(b, c) < 0.98 * shortest2 - 1e-12 * m_vt2) {
+    if (dist2(b, c) < long_edge2()) {
         return;
     }
     m_mesh.search_segment(b, c, m_et2, m_near);

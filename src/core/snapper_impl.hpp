@@ -40,7 +40,7 @@ private:
     void initial_scan(bool every_pair);
     void discover_point(std::uint32_t v, bool every_pair);
     bool register_nearest(std::uint32_t v);
-    void find_candidate(std::uint32_t v, double stale2);
+    void find_candidate(std::uint32_t v);
     void merge_event_gone(const Event& e);
     void discover_segment(std::uint32_t b, std::uint32_t c);
     void check_face(cdt::Face_handle f);
@@ -66,6 +66,8 @@ private:
         m_out.peak_queue = std::max(m_out.peak_queue, m_queue.size());
     }
     bool alive(std::uint32_t v) const { return m_mesh.vertex(v).alive; }
+    /// Squared length below which a constrained edge can give no split event (discover_segment).
+    double long_edge2() const { return 0.98 * 4 * (m_vt2 - m_et2) - 1e-12 * m_vt2; }
     double dist2(std::uint32_t p, std::uint32_t q) const
     {
         const double dx = m_mesh.vertex(p).x - m_mesh.vertex(q).x;

@@ -1,7 +1,7 @@
 // Adversarial inputs: tolerances larger than the features and vertices closer than t along a
-// straight line or an exact circle (generated), Andorra at 0.001 degrees and JTS's
-// ReducePrecisionFailure case 4 at its grid size 1223 (real, skipped when ../shared/data is
-// absent). Each input runs at its small and its large tolerance; the target is the large run
+// straight line or an exact circle (generated), Andorra at 0.001 degrees, CLC's one polygon at
+// 0.5 degrees (near its own size) and JTS's ReducePrecisionFailure case 4 at its grid size 1223
+// (real, skipped when ../shared/data is absent). Each input runs at its small and its large tolerance; the target is the large run
 // within 10x of the small one, which bench/adversarial prints as ratios (bench/README.md,
 // "Adversarial"). TRISNAP_BENCH_LARGE=1 runs the sizes the reliability review measured and a
 // circle of 10^6 vertices; the default is a tenth of the generated sizes.
@@ -44,6 +44,18 @@ void add_andorra(std::vector<AdversarialCase>& out, std::vector<std::string>& ab
     out.push_back({"andorra", read_ogr_layer(path.string(), "andorra").features, 1e-6, 1e-3});
 }
 
+/// CLC 2006's one polygon (43,925 vertices, 0.67 x 0.42 degrees) at 1e-5 and at 0.5 degrees:
+/// a tolerance near the layer's own size, where every vertex lies within t of most others and
+/// constraints block many merges (300 s before the searches passed over parked pairs).
+void add_clc(std::vector<AdversarialCase>& out, std::vector<std::string>& absent) {
+    const std::filesystem::path path = data_root() / "clc2006_prepair" / "CLC2006_2018418.gpkg";
+    if (!std::filesystem::exists(path)) {
+        absent.push_back(path.string());
+        return;
+    }
+    out.push_back({"clc_polygon", read_ogr_layer(path.string(), "clc2006_2018418").features, 1e-5, 0.5});
+}
+
 /// JTS's ReducePrecisionFailure case 4 (39,473 vertices) at t = 10 and at its grid size, 1223.
 void add_jts(std::vector<AdversarialCase>& out, std::vector<std::string>& absent) {
     const std::filesystem::path path =
@@ -76,6 +88,7 @@ const Cases& cases() {
             out.all.push_back({"circle_1m", {circle(1, 1'000'000, 100.0, 0.0, 1)}, 1e-4, 0.01});
         }
         add_andorra(out.all, out.absent);
+        add_clc(out.all, out.absent);
         add_jts(out.all, out.absent);
         return out;
     }();

@@ -21,7 +21,9 @@
 //    edges away, every other one per round around it, until its degree is down to k_hub_degree;
 //    CGAL's Delaunay removal then fills the small hole that is left. Every other one per round
 //    keeps the triangulation balanced: each neighbour gains at most two edges per round, and a
-//    round halves the degree, so nothing becomes the next hub.
+//    round takes up to half the edges away (on a convex ring all of those), so no neighbour
+//    becomes the next hub. A round that can flip nothing (a ring of reflex or collinear
+//    neighbours) leaves the rest to CGAL's plain ear fill (one stack walk around the hole).
 // On ordinary layers the bounds change nothing: the shared-layer runs (33, tiled and untiled,
 // 1e-6 to 2 km) give byte-identical outputs and problems with and without them.
 #include "core/mesh.hpp"

@@ -11,6 +11,7 @@
 #include "core/input_cleaning.hpp"
 #include "core/work_meter.hpp"
 
+#include <algorithm>
 #include <span>
 #include <unordered_set>
 #include <utility>
@@ -68,12 +69,26 @@ public:
     /// flips first (core/mesh_hubs.cpp).
     std::size_t removal_work() const { return m_removal_work; }
     std::size_t hub_removals() const { return m_hub_removals; }
+    /// Whether an edit left CGAL's own path (a bound was hit; core/mesh_hubs.cpp).
+    bool bounds_hit() const { return m_non_delaunay; }
     /// Constrained edges at least this long (squared) are "long"; the mesh counts them as edits
     /// make and remove edges. The snapper sets the length below which no edge can give a split
     /// event; while no edge is that long, search_point's nearest-only walk need not reach the
     /// edge radius (see there). 0 (the default) counts every edge.
     void set_long_edge_length2(double len2);
     std::size_t long_edges() const { return m_long_edges; }
+    /// The bounds on CGAL's edits (core/mesh_hubs.cpp): above `hub_degree` a vertex is removed by
+    /// rounds of flips first (down to 64, or `hub_degree` if lower); an insertion makes at most
+    /// `flip_budget` flips (<= 96, CGAL's recursion depth being 100). Defaults 1024 and 96; tests
+    /// lower them to stress the paths that leave the triangulation not Delaunay; `check_each_edit` then has every insertion and
+    /// removal verify the triangulation (CGAL's is_valid of the plain one, O(n): tests only) and
+    /// throw std::logic_error when it is not valid.
+    void set_edit_bounds(std::size_t hub_degree, int flip_budget, bool check_each_edit = false)
+    {
+        m_hub_degree = hub_degree;
+        m_flip_budget = std::clamp(flip_budget, 0, 96);
+        m_check_edits = check_each_edit;
+    }
     static constexpr std::size_t frame_vertices = 4;
     /// A stamp no face or vertex carries yet, for marking sets of faces.
     std::uint32_t fresh_stamp() { return next_stamp(); }
@@ -161,7 +176,6 @@ private:
     void push_job(cdt::Vertex_handle a, cdt::Vertex_handle b, std::uint32_t first, std::uint32_t count);
     void constrain(const Job& job);
     // mesh_hubs.cpp
-    static constexpr std::size_t k_hub_degree = 64; ///< above it, a vertex is removed by rounds of flips
     cdt::Vertex_handle insert_bounded(const cdt::Point& p, cdt::Triangulation::Locate_type lt, cdt::Face_handle loc,
                                       int li);
     void propagate_flip(cdt::Face_handle f, int i, int& budget);
@@ -214,6 +228,11 @@ private:
     double m_long2 = 0;
     std::size_t m_long_edges = 0;
     double m_ulp_margin = 0; ///< 64 ulps of the largest coordinate (the frame's)
+    bool m_non_delaunay = false; ///< a bound left an edge as it was (core/mesh_hubs.cpp)
+    std::size_t m_hub_degree = 1024;
+    int m_flip_budget = 96;
+    bool m_check_edits = false;
+    void check_edit(const char* what) const;
     std::size_t m_hub_removals = 0;
     // Scratch of insert_segment() and replace(), kept to avoid allocating per call.
     std::vector<Job> m_jobs;

@@ -11,32 +11,42 @@
 // The snapper does not need the Delaunay property to be right: its searches walk every face that
 // meets a disk or capsule, in any triangulation. Delaunay only keeps the faces it walks small on
 // ordinary data. So the engine keeps CGAL's Delaunay edits where they are cheap and bounds them
-// where they are not:
+// where they are not (Mesh::set_edit_bounds; defaults 1024 and 96):
 //  - an inserted point restores the Delaunay property with CGAL's own flips in CGAL's order
-//    (flip_around and the recursive propagating_flip, re-implemented with a flip budget); within
-//    k_flip_budget flips the result is CGAL's insertion exactly, beyond it the remaining edges
-//    stay as they are (legal, possibly not Delaunay);
-//  - a vertex of degree above k_hub_degree loses its incident constraints without CGAL's flips
-//    (it is removed next, so those flips bought nothing), and is removed by flipping its incident
-//    edges away, every other one per round around it, until its degree is down to k_hub_degree;
-//    CGAL's Delaunay removal then fills the small hole that is left. Every other one per round
-//    keeps the triangulation balanced: each neighbour gains at most two edges per round, and a
-//    round takes up to half the edges away (on a convex ring all of those), so no neighbour
-//    becomes the next hub. A round that can flip nothing (a ring of reflex or collinear
-//    neighbours) leaves the rest to CGAL's plain ear fill (one stack walk around the hole).
-// On ordinary layers the bounds change nothing: the shared-layer runs (33, tiled and untiled,
-// 1e-6 to 2 km) give byte-identical outputs and problems with and without them.
+//    (flip_around and the recursive propagating_flip, re-implemented with a budget); within
+//    m_flip_budget flips (96, below CGAL's recursion depth of 100) the result is CGAL's
+//    insertion exactly, beyond it the remaining edges stay as they are (legal, maybe not
+//    Delaunay);
+//  - a vertex of degree above m_hub_degree loses its incident constraints without CGAL's flips
+//    (it is removed next, so those flips bought nothing) and is first reduced by flipping its
+//    incident edges away, every other one per round around it, down to 64. Every
+//    other one per round keeps the triangulation balanced: each neighbour gains at most two
+//    edges per round, and a round takes up to half the edges away (on a convex ring all of
+//    those), so no neighbour becomes the next hub;
+//  - a removal uses CGAL's Delaunay hole fill only while no bound has left an edge as it was:
+//    that fill puts the Delaunay triangles of the hole's vertices in, which lie inside the hole
+//    only where the triangulation around it is Delaunay (with the bounds lowered to 6 and 2 it
+//    made overlapping faces, caught by CGAL's validity check in a stress run of the tests).
+//    From then on the removal is CGAL's plain ear fill, right in any triangulation; so is a hub
+//    whose rounds could not get below the bound (reflex or collinear neighbours).
+// On ordinary layers no bound is hit, so every edit is CGAL's own: the shared-layer runs (33,
+// tiled and untiled, 1e-6 to 2 km) give byte-identical outputs and problems with and without.
+// The largest degree a removal met there was 89 (BGT at 1 m): a hub bound of 64 took that run
+// off CGAL's path, which the ear fills then changed; 1024 leaves a wide margin and still catches
+// the circles' hubs (degrees in the thousands).
 #include "core/mesh.hpp"
+
+#include <stdexcept>
+#include <string>
 
 namespace trisnap::detail {
 
-namespace {
-
-/// Flips one insertion may make: below CGAL's recursion depth of 100, so that an insertion within
-/// the budget makes exactly CGAL's flips in CGAL's order.
-[[maybe_unused]] constexpr int k_flip_budget = 96;
-
-} // namespace
+void Mesh::check_edit(const char* what) const
+{
+    if (m_check_edits && !m_tri.cdt::CtBase::is_valid()) {
+        throw std::logic_error(std::string("trisnap: the triangulation is not valid after ") + what);
+    }
+}
 
 #ifdef TRISNAP_PLAIN_CT
 // The plain triangulation makes no flips: its own insertion is already bounded.
@@ -50,7 +60,11 @@ cdt::Vertex_handle Mesh::insert_bounded(const cdt::Point& p, cdt::Triangulation:
 #else
 void Mesh::propagate_flip(cdt::Face_handle f, int i, int& budget)
 {
-    if (budget == 0 || !m_tri.is_flipable(f, i)) {
+    if (!m_tri.is_flipable(f, i)) {
+        return;
+    }
+    if (budget == 0) { // an edge left as it is: the triangulation may no longer be Delaunay
+        m_non_delaunay = true;
         return;
     }
     --budget;
@@ -69,7 +83,7 @@ cdt::Vertex_handle Mesh::insert_bounded(const cdt::Point& p, cdt::Triangulation:
         return v;
     }
     // CGAL's flip_around(v), with one budget for all its propagations.
-    int budget = k_flip_budget;
+    int budget = m_flip_budget;
     cdt::Face_handle f = v->face();
     const cdt::Face_handle start = f;
     cdt::Face_handle next;
@@ -79,13 +93,14 @@ cdt::Vertex_handle Mesh::insert_bounded(const cdt::Point& p, cdt::Triangulation:
         propagate_flip(f, i, budget);
         f = next;
     } while (next != start);
+    check_edit("an insertion");
     return v;
 }
 #endif
 
 void Mesh::remove_incident_constraints_bounded(cdt::Vertex_handle h)
 {
-    if (m_tri.degree(h) > k_hub_degree) {
+    if (m_tri.degree(h) > m_hub_degree) {
         m_tri.cdt::CtBase::remove_incident_constraints(h);
     } else {
         m_tri.remove_incident_constraints(h);
@@ -95,17 +110,24 @@ void Mesh::remove_incident_constraints_bounded(cdt::Vertex_handle h)
 void Mesh::remove_bounded(cdt::Vertex_handle h)
 {
     std::size_t degree = m_tri.degree(h);
-    if (degree > k_hub_degree) {
+    if (degree > m_hub_degree) {
         shrink_hub(h);
         ++m_hub_removals;
+        m_non_delaunay = true; // its flips, or the ear fill below if it could flip nothing
         degree = m_tri.degree(h);
     }
     m_removal_work += degree * degree;
-    if (degree > k_hub_degree) { // degenerate neighbours left no flip: CGAL's ear fill
+    // CGAL's Delaunay removal fills the hole with the Delaunay triangles of its vertices, which
+    // lie inside the hole only where the triangulation around it is Delaunay: once a bound left
+    // an edge as it was, a removal uses CGAL's plain ear fill, right in any triangulation (the
+    // Delaunay fill made overlapping faces there, caught by CGAL's is_valid with the bounds
+    // lowered to 6 and 2 for a stress run of the tests).
+    if (m_non_delaunay) {
         m_tri.cdt::CtBase::remove(h);
     } else {
         m_tri.remove(h);
     }
+    check_edit("a removal");
 }
 
 // One round: the faces (h, w_k, w_k+1) around h, counter-clockwise, as they are at its start.
@@ -117,6 +139,7 @@ void Mesh::remove_bounded(cdt::Vertex_handle h)
 void Mesh::shrink_hub(cdt::Vertex_handle h)
 {
     std::vector<cdt::Face_handle>& ring = m_hub_faces;
+    const std::size_t target = std::min<std::size_t>(64, m_hub_degree);
     for (;;) {
         ring.clear();
         auto fc = m_tri.incident_faces(h);
@@ -129,7 +152,7 @@ void Mesh::shrink_hub(cdt::Vertex_handle h)
         } while (++fc != done);
         const std::size_t d = ring.size();
         std::size_t degree = d;
-        for (std::size_t k = 0; k + 1 < d && degree > k_hub_degree; k += 2) {
+        for (std::size_t k = 0; k + 1 < d && degree > target; k += 2) {
             const cdt::Face_handle f = ring[k];
             const int ih = f->index(h);
             const cdt::Vertex_handle w = f->vertex(cdt::Triangulation::ccw(ih));
@@ -144,9 +167,10 @@ void Mesh::shrink_hub(cdt::Vertex_handle h)
             }
             cdt::Face_handle ff = f;
             m_tri.flip(ff, opposite);
+            m_non_delaunay = true;
             --degree;
         }
-        if (degree == d || degree <= k_hub_degree) {
+        if (degree == d || degree <= target) {
             return;
         }
     }

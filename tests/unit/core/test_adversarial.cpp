@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <ctime>
 #include <iostream>
 
@@ -41,6 +42,18 @@ const AdversarialCase& find_case(const std::vector<AdversarialCase>& cases, cons
         }
     }
     throw std::runtime_error("no adversarial case " + name);
+}
+
+// The snapper on a mesh the test holds (to read its counters), with the engine's thresholds at
+// t (edge and sliver t/2, no margins), its operation cap, and the fix-point verified.
+detail::SnapperOutcome run_snapper_at(detail::Mesh& mesh, double t) {
+    detail::SnapperParams params;
+    params.vertex_threshold = t;
+    params.edge_threshold = t / 2;
+    params.sliver_threshold = t / 2;
+    params.max_operations = 20 * mesh.vertex_slots() + 1000;
+    params.verify = true;
+    return detail::run_snapper(mesh, params);
 }
 
 class AdversarialSlow : public ::testing::TestWithParam<const char*> {};
@@ -122,14 +135,16 @@ TEST(Adversarial, QueueStaysLinearInTheVerticesWhenEverythingIsWithinT) {
 // and in a Delaunay triangulation of nearly co-circular points such a vertex neighbours nearly
 // the whole circle (degree 19,996 of 20,000 measured). CGAL refills the hole of a removed vertex
 // with d^2 in-circle tests, so with every merge paying for a hub the run was quadratic (10.6 s at
-// 20,000 vertices, 925 s at 10^6). The engine removes a hub by rounds of flips first and bounds
-// an insertion's flips (core/mesh_hubs.cpp): the hole-filling work (the sum of the squared
-// degrees CGAL removed) must grow near linearly with the circle, hubs must really have been
-// met, the fix-point must hold, and the result keep the contract.
+// 20,000 vertices, 925 s at 10^6). The engine bounds an insertion's flips, so such a vertex does
+// not become a hub, and removes a hub by rounds of flips first (core/mesh_hubs.cpp): the
+// hole-filling work (the sum of the squared degrees removed) must grow near linearly with the
+// circle (it grew 5.2x per doubling without the bounds), the bounds must really have been hit,
+// the fix-point must hold, and the result keep the contract.
 TEST(Adversarial, HubsOfAnExactCircleAreRemovedAtBoundedCost) {
     constexpr double t = 0.01;
     struct Run {
         std::size_t work = 0, hubs = 0, merges = 0;
+        bool bounded = false;
     };
     const auto run = [&](int n) {
         // Spacing 2 pi r / n = 6.3e-4, a sixteenth of t.
@@ -137,28 +152,107 @@ TEST(Adversarial, HubsOfAnExactCircleAreRemovedAtBoundedCost) {
         std::vector<Problem> problems;
         const std::vector<detail::CleanFeature> clean = detail::clean_input(in, t, problems);
         detail::Mesh mesh(clean, t);
-        detail::SnapperParams params;
-        params.vertex_threshold = t;
-        params.edge_threshold = t / 2;
-        params.sliver_threshold = t / 2;
-        params.max_operations = 20 * mesh.vertex_slots() + 1000;
-        params.verify = true;
-        const detail::SnapperOutcome out = detail::run_snapper(mesh, params);
+        const detail::SnapperOutcome out = run_snapper_at(mesh, t);
         EXPECT_TRUE(out.converged) << n;
         EXPECT_EQ(out.fixpoint_misses, 0u) << n;
-        return Run{mesh.removal_work(), mesh.hub_removals(), out.merges};
+        // A valid triangulation (CGAL's check of the plain one: the Delaunay one's also wants
+        // every edge Delaunay, which the bounds give up).
+        EXPECT_TRUE(mesh.tri().cdt::CtBase::is_valid()) << n;
+        return Run{mesh.removal_work(), mesh.hub_removals(), out.merges, mesh.bounds_hit()};
     };
     const Run a = run(10'000);
     const Run b = run(20'000);
     std::cout << "circle x2: removal work " << a.work << " -> " << b.work << ", hub removals " << a.hubs << " -> "
               << b.hubs << ", merges " << a.merges << " -> " << b.merges << "\n";
     EXPECT_GT(b.merges, 15'000u) << "the tolerance must make real work";
-    EXPECT_GT(b.hubs, 0u) << "the circle must make hubs, or this test checks nothing";
+    EXPECT_TRUE(a.bounded && b.bounded) << "the circle must take the edits off CGAL's path, or this test checks nothing";
     EXPECT_LE(b.work, 3 * a.work);
     const std::vector<Feature> in = {circle(1, 20'000, 2.0, 0.0, 1)};
     const CheckedRun checked = snap_and_check(in, options_at(t), in.size());
     ASSERT_EQ(checked.result.features.size(), 1u);
     EXPECT_FALSE(checked.result.features[0].geometry.empty());
+}
+
+// Hubs beside constraints: two overlapping exact circles, a third inside the first as its hole,
+// and a straight line through all of them, each dense (16 vertices per t). The hub removals and
+// the bounded insertions then happen where constrained edges cross the circles' insides; the
+// engine must keep the fix-point and the contract (valid, separated, accounted, drift) there.
+TEST(Adversarial, HubsBesideConstraintsKeepTheContract) {
+    constexpr double t = 0.01;
+    std::vector<Feature> in;
+    Feature a = circle(1, 5'000, 0.5, 0.0, 1);
+    Feature hole = circle(0, 2'000, 0.2, 0.0, 1);
+    std::reverse(hole.geometry.polygons[0].rings[0].begin(), hole.geometry.polygons[0].rings[0].end());
+    a.geometry.polygons[0].rings.push_back(hole.geometry.polygons[0].rings[0]);
+    in.push_back(a);
+    Feature b = circle(2, 5'000, 0.5, 0.0, 2);
+    for (Coord& c : b.geometry.polygons[0].rings[0]) {
+        c.x += 0.3;
+    }
+    in.push_back(b);
+    Feature line;
+    line.id = 3;
+    line.geometry.type = Geometry::Type::LineString;
+    line.geometry.lines.push_back(Path{Coord{-0.7, 0.013}, Coord{1.1, -0.021}});
+    in.push_back(line);
+
+    std::vector<Problem> problems;
+    const std::vector<detail::CleanFeature> clean = detail::clean_input(in, t, problems);
+    detail::Mesh mesh(clean, t);
+    const detail::SnapperOutcome out = run_snapper_at(mesh, t);
+    std::cout << "circles and a line: " << mesh.hub_removals() << " hub removals, " << out.merges << " merges, "
+              << out.splits << " splits\n";
+    EXPECT_GT(mesh.hub_removals(), 0u) << "the case must make hubs, or this test checks nothing";
+    EXPECT_TRUE(out.converged);
+    EXPECT_EQ(out.fixpoint_misses, 0u);
+    EXPECT_TRUE(mesh.tri().cdt::CtBase::is_valid());
+
+    const CheckedRun checked = snap_and_check(in, options_at(t), in.size());
+    EXPECT_TRUE(contract_holds(checked.report, t)) << checked.report.summary();
+    ASSERT_EQ(checked.result.features.size(), in.size());
+    for (const FeatureOutput& f : checked.result.features) {
+        EXPECT_FALSE(f.geometry.empty()) << "feature " << f.id;
+    }
+}
+
+// The bounded edits lowered until they are everywhere (hubs above degree 6, two flips per
+// insertion): the triangulation is then far from Delaunay on every input, which is where a
+// removal by CGAL's Delaunay hole fill can make overlapping faces (seen once, in a stress run of
+// the whole suite with the bounds compiled in at 6 and 2, building included; these inputs, with
+// the bounds set after the build, did not show it: this test guards the bounded paths, it is
+// not that failure's reproduction). On near-degenerate
+// polygons, a tolerance larger than the features and dense circles, the triangulation must stay
+// valid after every edit (the mesh checks and throws) and the snapper reach its fix-point.
+TEST(Adversarial, LoweredEditBoundsKeepTheTriangulationValid) {
+    struct Input {
+        const char* name;
+        std::vector<Feature> features;
+        double t;
+    };
+    std::vector<Input> inputs;
+    for (std::uint64_t seed : {1u, 2u, 3u, 4u}) {
+        inputs.push_back({"near-degenerate", near_degenerate_polygons(200, 200.0, 1.0, seed), 1.0});
+    }
+    inputs.push_back({"near-degenerate, tiny", near_degenerate_polygons(200, 2e-4, 1e-6, 9), 1e-6});
+    inputs.push_back({"squares at t = 10", random_small_squares(300, 1.0, 26.0, 7), 10.0});
+    std::vector<Feature> circles = {circle(1, 3'000, 0.3, 0.0, 1), circle(2, 3'000, 0.3, 0.0, 2)};
+    for (Coord& c : circles[1].geometry.polygons[0].rings[0]) {
+        c.x += 0.2;
+    }
+    inputs.push_back({"circles", circles, 0.01});
+    for (const Input& input : inputs) {
+        std::vector<Problem> problems;
+        const std::vector<detail::CleanFeature> clean = detail::clean_input(input.features, input.t, problems);
+        detail::Mesh mesh(clean, input.t);
+        mesh.set_edit_bounds(6, 2, true); // and CGAL's validity check after every edit
+        const detail::SnapperOutcome out = run_snapper_at(mesh, input.t);
+        std::cout << input.name << ": " << mesh.hub_removals() << " hub removals, " << out.merges << " merges, "
+                  << out.splits << " splits\n";
+        EXPECT_GT(out.merges + out.splits, 0u) << input.name;
+        EXPECT_TRUE(out.converged) << input.name;
+        EXPECT_EQ(out.fixpoint_misses, 0u) << input.name;
+        EXPECT_TRUE(mesh.tri().cdt::CtBase::is_valid()) << input.name;
+    }
 }
 
 TEST(Adversarial, ToleranceLargerThanTheWholeLayerCollapsesEverythingWithoutTriangulating) {

@@ -3,6 +3,7 @@
 #include "app/estimate.hpp"
 #include "app/memory.hpp"
 #include "app/work_dir.hpp"
+#include "io/gpkg_rtree.hpp"
 
 #include <cpl_conv.h>
 #include <fmt/format.h>
@@ -75,6 +76,11 @@ std::size_t sample_vertices(std::uint64_t memory_limit)
 std::size_t fid_buffer(std::uint64_t memory_limit)
 {
     return memory_limit ? static_cast<std::size_t>(memory_limit / 16 / 8) : std::numeric_limits<std::size_t>::max();
+}
+
+std::size_t index_boxes(std::uint64_t memory_limit)
+{
+    return memory_limit ? static_cast<std::size_t>(memory_limit / 32 / sizeof(RtreeEntry)) : std::size_t{1} << 26;
 }
 
 std::uint64_t gdal_cache_bytes(std::uint64_t memory_limit)

@@ -42,6 +42,9 @@ std::uint64_t reserved_margin(std::uint64_t memory_limit);
 /// cache (bytes) is set by apply_gdal_budget().
 std::size_t sample_vertices(std::uint64_t memory_limit);
 std::size_t fid_buffer(std::uint64_t memory_limit);
+/// Feature boxes the GeoPackage writer keeps to bulk load OUT's spatial index (24 bytes each,
+/// io/gpkg_rtree.hpp): 1/32 of a limit, else 2^26; beyond them GDAL builds the index.
+std::size_t index_boxes(std::uint64_t memory_limit);
 std::uint64_t gdal_cache_bytes(std::uint64_t memory_limit);
 
 /// What a layer makes the process hold before any tile beyond what does not depend on the limit:

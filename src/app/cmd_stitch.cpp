@@ -123,6 +123,7 @@ public:
         const RunBudget budget = choose_budget(args, config);
         apply_gdal_budget(budget);
         Plan plan = make_plan(args, config);
+        plan.write.index_boxes = index_boxes(budget.memory_limit);
         dir.check_input(plan);
         // OUT and the report go into place together, or neither; the run directory is not an output.
         plan.write.protected_files.refuse_tree(dir.path(), "RUN_DIR");

@@ -104,6 +104,7 @@ RunResult snap_run(const SnapArgs& args, const Config& config, Progress& progres
     apply_gdal_budget(budget);
     const auto start = Clock::now();
     plan = make_plan(args, config);
+    plan.write.index_boxes = index_boxes(budget.memory_limit);
     if (work.on_disk()) {
         plan.write.protected_files.refuse_tree(work.path(), "--work-dir");
     }

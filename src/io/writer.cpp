@@ -87,6 +87,28 @@ private:
     bool m_had_previous = false;
 };
 
+/// GeoPackage, unless the user asked for no index (-lco SPATIAL_INDEX=NO): GDAL is told NO and
+/// the writer bulk loads the index itself at the end (io/gpkg_rtree.hpp).
+bool bulk_loads_index(const std::string& driver_name, std::vector<std::string>& options)
+{
+    if (driver_name != "GPKG") {
+        return false;
+    }
+    const std::string key = "SPATIAL_INDEX=";
+    const auto given = std::find_if(options.begin(), options.end(), [&](const std::string& o) {
+        return o.size() >= key.size() && EQUALN(o.c_str(), key.c_str(), key.size());
+    });
+    if (given == options.end()) {
+        options.push_back(key + "NO");
+        return true;
+    }
+    if (!CPLTestBool(given->c_str() + key.size())) {
+        return false;
+    }
+    *given = key + "NO";
+    return true;
+}
+
 } // namespace
 
 LayerWriter::LayerWriter(const WriteOptions& options, const std::vector<OGRLayer*>& sources)
@@ -209,8 +231,11 @@ void LayerWriter::delete_layer(const std::string& name)
     throw io_error(m_options.path, name, capture.last_error("cannot delete the layer to replace it"));
 }
 
-void LayerWriter::create_layer(Target& t, OGRLayer& source, const std::vector<std::string>& options)
+void LayerWriter::create_layer(Target& t, OGRLayer& source, std::vector<std::string> options)
 {
+    if (bulk_loads_index(m_driver_name, options)) {
+        t.index = std::make_unique<GpkgIndexBuilder>(m_options.index_boxes);
+    }
     const std::string name = m_options.layer_name.empty() ? source.GetName() : m_options.layer_name;
     const StringList list(options);
     ScopedErrorCapture capture;
@@ -298,6 +323,9 @@ std::string LayerWriter::write(std::size_t layer, const OGRFeature& source, std:
     if (refused) {
         return capture.last_error("the driver refused the feature");
     }
+    if (t.index) {
+        t.index->add(out->GetFID(), out->GetGeometryRef());
+    }
     const std::size_t first = m_problems.size();
     t.fidelity->check(source, *out, fid, m_problems);
     for (std::size_t i = first; i < m_problems.size(); ++i) {
@@ -338,6 +366,17 @@ void LayerWriter::finish()
     const ScratchDirectory scratch(m_temp.path());
     CPLErrorReset();
     ScopedErrorCapture capture;
+    for (Target& t : m_targets) {
+        if (t.index) {
+            try {
+                t.index->write(*m_dataset, *t.layer, m_options.path, outcome());
+            } catch (const io_error&) {
+                throw_if_write_failed(); // a full disk says more than SQLite's complaint about it
+                throw;
+            }
+            t.index.reset();
+        }
+    }
     if (m_in_transaction && m_dataset->CommitTransaction() != OGRERR_NONE) {
         fail_finishing(capture.last_error("cannot commit the transaction"));
     }

@@ -10,6 +10,7 @@
 #include "core/problems.hpp"
 #include "io/commit_group.hpp"
 #include "io/field_fidelity.hpp"
+#include "io/gpkg_rtree.hpp"
 #include "io/file_safety.hpp"
 #include "io/temp_files.hpp"
 
@@ -38,6 +39,9 @@ struct WriteOptions {
     /// Per source layer: its input FIDs are unusable (duplicate or missing): always add orig_fid.
     /// Missing entries are false.
     std::vector<bool> renumber;
+    /// A new GeoPackage layer's spatial index is bulk loaded from the features' boxes, kept in
+    /// memory (24 bytes each) up to this many; beyond, GDAL builds it (slower, bounded memory).
+    std::size_t index_boxes = std::size_t{1} << 26;
     ProtectedFiles protected_files; ///< never replaced (the input's files); checked again at the rename
     /// When set, commit() stages OUT's files in this group instead of renaming them, and the
     /// group's owner renames them together with the report (see commit_group.hpp).
@@ -115,6 +119,8 @@ private:
         int orig_fid_field = -1;
         bool keeps_fids = false;
         std::size_t written = 0;
+        /// A new GeoPackage layer's spatial index, written by finish() (io/gpkg_rtree.hpp).
+        std::unique_ptr<GpkgIndexBuilder> index;
     };
 
     void create_dataset(GDALDriver& driver);
@@ -124,7 +130,7 @@ private:
     void delete_layer(const std::string& name);
     std::filesystem::path failure_scope() const;
     const char* outcome() const;
-    void create_layer(Target& t, OGRLayer& source, const std::vector<std::string>& options);
+    void create_layer(Target& t, OGRLayer& source, std::vector<std::string> options);
     void create_fields(Target& t, const OGRFeatureDefn& source);
     void throw_if_write_failed() const;
     [[noreturn]] void fail_finishing(const std::string& gdal_message) const;

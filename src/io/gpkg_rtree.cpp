@@ -1,0 +1,390 @@
+#include "io/gpkg_rtree.hpp"
+
+#include "io/gdal_errors.hpp"
+#include "io/io_error.hpp"
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <tuple>
+#include <utility>
+
+namespace trisnap {
+namespace {
+
+constexpr std::size_t k_cell_bytes = 8 + 4 * 4; // id, then minx, maxx, miny, maxy
+constexpr std::size_t k_max_cells = 51;         // SQLite's RTREE_MAXCELLS
+
+float down(double d)
+{
+    if (!(d <= static_cast<double>(FLT_MAX))) {
+        return FLT_MAX; // beyond a float (or NaN): the largest finite float is still <= d
+    }
+    if (d < -static_cast<double>(FLT_MAX)) {
+        return -std::numeric_limits<float>::infinity();
+    }
+    float f = static_cast<float>(d);
+    if (static_cast<double>(f) > d) {
+        f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+    }
+    return f;
+}
+
+float up(double d)
+{
+    if (!(d >= -static_cast<double>(FLT_MAX))) {
+        return -FLT_MAX;
+    }
+    if (d > static_cast<double>(FLT_MAX)) {
+        return std::numeric_limits<float>::infinity();
+    }
+    float f = static_cast<float>(d);
+    if (static_cast<double>(f) < d) {
+        f = std::nextafter(f, std::numeric_limits<float>::infinity());
+    }
+    return f;
+}
+
+double centre_x(const RtreeEntry& e) { return static_cast<double>(e.min_x) + static_cast<double>(e.max_x); }
+double centre_y(const RtreeEntry& e) { return static_cast<double>(e.min_y) + static_cast<double>(e.max_y); }
+
+/// One level of Sort-Tile-Recursive: the items cut into nodes of at most max_cells.
+std::vector<std::vector<RtreeEntry>> pack_level(std::vector<RtreeEntry> items, std::size_t max_cells)
+{
+    std::vector<std::vector<RtreeEntry>> nodes;
+    const std::size_t n = items.size();
+    if (n == 0) {
+        nodes.emplace_back();
+        return nodes;
+    }
+    const std::size_t leaves = (n + max_cells - 1) / max_cells;
+    auto slices = static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(leaves))));
+    while (slices * slices < leaves) {
+        ++slices;
+    }
+    const std::size_t per_slice = slices * max_cells;
+    std::sort(items.begin(), items.end(), [](const RtreeEntry& a, const RtreeEntry& b) {
+        return std::make_tuple(centre_x(a), centre_y(a), a.id) < std::make_tuple(centre_x(b), centre_y(b), b.id);
+    });
+    nodes.reserve(leaves + slices);
+    for (std::size_t start = 0; start < n; start += per_slice) {
+        const auto first = items.begin() + static_cast<std::ptrdiff_t>(start);
+        const auto last = items.begin() + static_cast<std::ptrdiff_t>(std::min(n, start + per_slice));
+        std::sort(first, last, [](const RtreeEntry& a, const RtreeEntry& b) {
+            return std::make_tuple(centre_y(a), centre_x(a), a.id) < std::make_tuple(centre_y(b), centre_x(b), b.id);
+        });
+        for (auto it = first; it < last; it += std::min<std::ptrdiff_t>(static_cast<std::ptrdiff_t>(max_cells), last - it)) {
+            nodes.emplace_back(it, it + std::min<std::ptrdiff_t>(static_cast<std::ptrdiff_t>(max_cells), last - it));
+        }
+    }
+    return nodes;
+}
+
+RtreeEntry bounds(const std::vector<RtreeEntry>& cells, std::int64_t id)
+{
+    RtreeEntry b = cells.front();
+    for (const RtreeEntry& c : cells) {
+        b.min_x = std::min(b.min_x, c.min_x);
+        b.max_x = std::max(b.max_x, c.max_x);
+        b.min_y = std::min(b.min_y, c.min_y);
+        b.max_y = std::max(b.max_y, c.max_y);
+    }
+    b.id = id;
+    return b;
+}
+
+void put_u16(std::string& out, std::size_t at, unsigned v)
+{
+    out[at] = static_cast<char>((v >> 8) & 0xff);
+    out[at + 1] = static_cast<char>(v & 0xff);
+}
+
+void put_u64(std::string& out, std::size_t at, std::uint64_t v)
+{
+    for (int i = 0; i < 8; ++i) {
+        out[at + static_cast<std::size_t>(i)] = static_cast<char>((v >> (56 - 8 * i)) & 0xff);
+    }
+}
+
+void put_float(std::string& out, std::size_t at, float f)
+{
+    std::uint32_t bits = 0;
+    std::memcpy(&bits, &f, sizeof bits);
+    for (int i = 0; i < 4; ++i) {
+        out[at + static_cast<std::size_t>(i)] = static_cast<char>((bits >> (24 - 8 * i)) & 0xff);
+    }
+}
+
+std::string identifier(const std::string& name)
+{
+    std::string out = "\"";
+    for (char c : name) {
+        out += c;
+        if (c == '"') {
+            out += '"';
+        }
+    }
+    return out + "\"";
+}
+
+std::string literal(const std::string& text)
+{
+    std::string out = "'";
+    for (char c : text) {
+        out += c;
+        if (c == '\'') {
+            out += '\'';
+        }
+    }
+    return out + "'";
+}
+
+std::string hex(const std::string& bytes)
+{
+    static constexpr char digits[] = "0123456789ABCDEF";
+    std::string out = "X'";
+    out.reserve(bytes.size() * 2 + 3);
+    for (char c : bytes) {
+        const auto b = static_cast<unsigned char>(c);
+        out += digits[b >> 4];
+        out += digits[b & 0xf];
+    }
+    return out + "'";
+}
+
+/// SQL on the GeoPackage through GDAL (its SQLite connection, inside the writer's transaction).
+class Sql {
+public:
+    Sql(GDALDataset& dataset, const std::string& path, const std::string& layer, const std::string& outcome)
+        : m_dataset(dataset), m_path(path), m_layer(layer), m_outcome(outcome)
+    {
+    }
+
+    void run(const std::string& statement)
+    {
+        ScopedErrorCapture capture;
+        OGRLayer* result = m_dataset.ExecuteSQL(statement.c_str(), nullptr, nullptr);
+        if (result != nullptr) {
+            m_dataset.ReleaseResultSet(result);
+        }
+        check(capture);
+    }
+
+    std::int64_t integer(const std::string& query)
+    {
+        ScopedErrorCapture capture;
+        OGRLayer* result = m_dataset.ExecuteSQL(query.c_str(), nullptr, nullptr);
+        std::int64_t value = -1;
+        if (result != nullptr) {
+            OGRFeatureUniquePtr row(result->GetNextFeature());
+            if (row && row->IsFieldSetAndNotNull(0)) {
+                value = row->GetFieldAsInteger64(0);
+            }
+            m_dataset.ReleaseResultSet(result);
+        }
+        check(capture);
+        return value;
+    }
+
+    /// INSERT INTO table VALUES (row(0)), ..., (row(count - 1)), in statements of at most
+    /// `batch` rows (the text of one statement at a time, not of them all).
+    template <class Row>
+    void insert(const std::string& table, std::size_t count, std::size_t batch, const Row& row)
+    {
+        std::string statement;
+        for (std::size_t start = 0; start < count; start += batch) {
+            statement = "INSERT INTO " + identifier(table) + " VALUES ";
+            const std::size_t end = std::min(count, start + batch);
+            for (std::size_t i = start; i < end; ++i) {
+                statement += i == start ? "(" : ",(";
+                statement += row(i);
+                statement += ')';
+            }
+            run(statement);
+        }
+    }
+
+private:
+    void check(const ScopedErrorCapture& capture) const
+    {
+        if (!capture.errors().empty()) {
+            throw io_error(m_path, m_layer, "cannot write the spatial index: " + capture.last_error() + m_outcome);
+        }
+    }
+
+    GDALDataset& m_dataset;
+    const std::string& m_path;
+    const std::string& m_layer;
+    const std::string& m_outcome;
+};
+
+/// The GeoPackage R-tree extension's triggers (spec 1.2, F.3), which keep the index in step
+/// with later edits of the table.
+std::vector<std::string> rtree_triggers(const std::string& table, const std::string& column, const std::string& fid,
+                                        const std::string& rtree)
+{
+    const std::string t = identifier(table);
+    const std::string c = identifier(column);
+    const std::string i = identifier(fid);
+    const std::string r = identifier(rtree);
+    const std::string row = "VALUES (NEW." + i + ",ST_MinX(NEW." + c + "), ST_MaxX(NEW." + c + "),ST_MinY(NEW." + c +
+                            "), ST_MaxY(NEW." + c + "))";
+    const std::string has = "(NEW." + c + " NOTNULL AND NOT ST_IsEmpty(NEW." + c + "))";
+    const std::string lacks = "(NEW." + c + " ISNULL OR ST_IsEmpty(NEW." + c + "))";
+    const auto name = [&](const char* suffix) { return identifier(rtree + "_" + suffix); };
+    return {
+        "CREATE TRIGGER " + name("insert") + " AFTER INSERT ON " + t + " WHEN (new." + c + " NOT NULL AND NOT ST_IsEmpty(NEW." +
+            c + ")) BEGIN INSERT OR REPLACE INTO " + r + " " + row + "; END",
+        "CREATE TRIGGER " + name("update1") + " AFTER UPDATE OF " + c + " ON " + t + " WHEN OLD." + i + " = NEW." + i +
+            " AND " + has + " BEGIN INSERT OR REPLACE INTO " + r + " " + row + "; END",
+        "CREATE TRIGGER " + name("update2") + " AFTER UPDATE OF " + c + " ON " + t + " WHEN OLD." + i + " = NEW." + i +
+            " AND " + lacks + " BEGIN DELETE FROM " + r + " WHERE id = OLD." + i + "; END",
+        "CREATE TRIGGER " + name("update3") + " AFTER UPDATE ON " + t + " WHEN OLD." + i + " != NEW." + i + " AND " + has +
+            " BEGIN DELETE FROM " + r + " WHERE id = OLD." + i + "; INSERT OR REPLACE INTO " + r + " " + row + "; END",
+        "CREATE TRIGGER " + name("update4") + " AFTER UPDATE ON " + t + " WHEN OLD." + i + " != NEW." + i + " AND " + lacks +
+            " BEGIN DELETE FROM " + r + " WHERE id IN (OLD." + i + ", NEW." + i + "); END",
+        "CREATE TRIGGER " + name("delete") + " AFTER DELETE ON " + t + " WHEN old." + c + " NOT NULL BEGIN DELETE FROM " + r +
+            " WHERE id = OLD." + i + "; END",
+    };
+}
+
+} // namespace
+
+RtreeEntry rtree_entry(std::int64_t id, const OGREnvelope& box)
+{
+    RtreeEntry e;
+    e.id = id;
+    e.min_x = down(box.MinX);
+    e.max_x = up(box.MaxX);
+    e.min_y = down(box.MinY);
+    e.max_y = up(box.MaxY);
+    return e;
+}
+
+PackedRtree pack_rtree(std::vector<RtreeEntry> entries, std::size_t max_cells)
+{
+    max_cells = std::max<std::size_t>(2, max_cells);
+    // levels[0] holds the leaves; above, a cell's id is its child's index in the level below.
+    std::vector<std::vector<std::vector<RtreeEntry>>> levels;
+    levels.push_back(pack_level(std::move(entries), max_cells));
+    while (levels.back().size() > 1) {
+        const auto& below = levels.back();
+        std::vector<RtreeEntry> items;
+        items.reserve(below.size());
+        for (std::size_t k = 0; k < below.size(); ++k) {
+            items.push_back(bounds(below[k], static_cast<std::int64_t>(k)));
+        }
+        levels.push_back(pack_level(std::move(items), max_cells));
+    }
+    // Numbers from the root (1) down, level by level.
+    std::vector<std::int64_t> first(levels.size());
+    std::int64_t next = 1;
+    for (std::size_t l = levels.size(); l-- > 0;) {
+        first[l] = next;
+        next += static_cast<std::int64_t>(levels[l].size());
+    }
+    PackedRtree tree;
+    tree.depth = static_cast<int>(levels.size()) - 1;
+    tree.first_leaf = static_cast<std::size_t>(first[0] - 1);
+    tree.parent.assign(static_cast<std::size_t>(next - 1), 0);
+    for (std::size_t l = levels.size(); l-- > 0;) {
+        for (std::vector<RtreeEntry>& node : levels[l]) {
+            const auto number = static_cast<std::int64_t>(tree.nodes.size()) + 1;
+            if (l > 0) {
+                for (RtreeEntry& cell : node) {
+                    cell.id += first[l - 1];
+                    tree.parent[static_cast<std::size_t>(cell.id - 1)] = number;
+                }
+            }
+            tree.nodes.push_back(std::move(node));
+        }
+    }
+    return tree;
+}
+
+std::string rtree_node_blob(const std::vector<RtreeEntry>& cells, int depth, bool root, std::size_t node_size)
+{
+    std::string blob(node_size, '\0');
+    put_u16(blob, 0, root ? static_cast<unsigned>(depth) : 0U);
+    put_u16(blob, 2, static_cast<unsigned>(cells.size()));
+    std::size_t at = 4;
+    for (const RtreeEntry& c : cells) {
+        put_u64(blob, at, static_cast<std::uint64_t>(c.id));
+        put_float(blob, at + 8, c.min_x);
+        put_float(blob, at + 12, c.max_x);
+        put_float(blob, at + 16, c.min_y);
+        put_float(blob, at + 20, c.max_y);
+        at += k_cell_bytes;
+    }
+    return blob;
+}
+
+void GpkgIndexBuilder::add(std::int64_t fid, const OGRGeometry* geometry)
+{
+    if (m_fallback || geometry == nullptr || geometry->IsEmpty()) {
+        return;
+    }
+    if (m_entries.size() >= m_max_entries) {
+        m_fallback = true;
+        std::vector<RtreeEntry>().swap(m_entries);
+        return;
+    }
+    OGREnvelope box;
+    geometry->getEnvelope(&box);
+    m_entries.push_back(rtree_entry(fid, box));
+}
+
+void GpkgIndexBuilder::write(GDALDataset& dataset, OGRLayer& layer, const std::string& path, const std::string& outcome)
+{
+    const std::string table = layer.GetName();
+    const std::string column = layer.GetGeometryColumn();
+    Sql sql(dataset, path, table, outcome);
+    if (m_fallback) {
+        sql.run("SELECT CreateSpatialIndex(" + literal(table) + ", " + literal(column) + ")");
+        return;
+    }
+    const std::string rtree = "rtree_" + table + "_" + column;
+    sql.run("CREATE VIRTUAL TABLE " + identifier(rtree) + " USING rtree(id, minx, maxx, miny, maxy)");
+    // SQLite sizes every node like the root it just made (page size - 64, at most 51 cells).
+    const std::int64_t node_size = sql.integer("SELECT length(data) FROM " + identifier(rtree + "_node") + " WHERE nodeno = 1");
+    if (node_size < static_cast<std::int64_t>(4 + 2 * k_cell_bytes)) {
+        throw io_error(path, table, "cannot write the spatial index: SQLite made an R-tree node of " +
+                                        std::to_string(node_size) + " bytes" + outcome);
+    }
+    const std::size_t max_cells = std::min(k_max_cells, (static_cast<std::size_t>(node_size) - 4) / k_cell_bytes);
+    const PackedRtree tree = pack_rtree(std::move(m_entries), max_cells);
+    m_entries = {};
+
+    sql.run("UPDATE " + identifier(rtree + "_node") + " SET data = " +
+            hex(rtree_node_blob(tree.nodes[0], tree.depth, true, static_cast<std::size_t>(node_size))) + " WHERE nodeno = 1");
+    const std::size_t nodes = tree.nodes.size() - 1; // below the root: nodes[1..]
+    sql.insert(rtree + "_node", nodes, 32, [&](std::size_t i) {
+        return std::to_string(i + 2) + "," +
+               hex(rtree_node_blob(tree.nodes[i + 1], tree.depth, false, static_cast<std::size_t>(node_size)));
+    });
+    sql.insert(rtree + "_parent", nodes, 1000,
+               [&](std::size_t i) { return std::to_string(i + 2) + "," + std::to_string(tree.parent[i + 1]); });
+    // The leaves' cells are the FIDs: the rowid table maps each to its leaf, in FID order.
+    std::vector<std::pair<std::int64_t, std::int64_t>> leaf_of;
+    for (std::size_t k = tree.first_leaf; k < tree.nodes.size(); ++k) {
+        for (const RtreeEntry& cell : tree.nodes[k]) {
+            leaf_of.emplace_back(cell.id, static_cast<std::int64_t>(k) + 1);
+        }
+    }
+    std::sort(leaf_of.begin(), leaf_of.end());
+    sql.insert(rtree + "_rowid", leaf_of.size(), 1000, [&](std::size_t i) {
+        return std::to_string(leaf_of[i].first) + "," + std::to_string(leaf_of[i].second);
+    });
+    for (const std::string& trigger : rtree_triggers(table, column, layer.GetFIDColumn(), rtree)) {
+        sql.run(trigger);
+    }
+    sql.run("CREATE TABLE IF NOT EXISTS gpkg_extensions (table_name TEXT, column_name TEXT, extension_name TEXT NOT NULL, "
+            "definition TEXT NOT NULL, scope TEXT NOT NULL, CONSTRAINT ge_tce UNIQUE (table_name, column_name, extension_name))");
+    sql.run("INSERT INTO gpkg_extensions (table_name, column_name, extension_name, definition, scope) VALUES (" +
+            literal(table) + ", " + literal(column) +
+            ", 'gpkg_rtree_index', 'http://www.geopackage.org/spec120/#extension_rtree', 'write-only')");
+}
+
+} // namespace trisnap

@@ -14,13 +14,12 @@ RUN cmake --preset release -DTRISNAP_BUILD_TESTS=OFF -DTRISNAP_BUILD_BENCH=OFF \
     && /opt/trisnap/bin/trisnap --version
 
 FROM debian:12-slim
-# The package of every shared library the binary NEEDs (readelf -d, dpkg -S): GDAL, oneTBB and its
-# allocator, GMP (the engine's exact crossings), toml++ (settings files), spdlog and fmt; libc,
+# The package of every shared library the binary NEEDs (readelf -d, dpkg -S): GDAL, oneTBB, GMP (the engine's exact crossings), toml++ (settings files), spdlog and fmt; libc,
 # libstdc++ and libgcc come with the base image. The test docker_runtime (tests/cli) checks this
 # list against the built binary. bash-completion is left out: a container runs commands, not a shell.
 RUN apt-get update \
     && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
-       libgdal32 libtbb12 libtbbmalloc2 libgmp10 libtomlplusplus3 libspdlog1.10 libfmt9 man-db \
+       libgdal32 libtbb12 libgmp10 libtomlplusplus3 libspdlog1.10 libfmt9 man-db \
     && rm -rf /var/lib/apt/lists/*
 COPY --from=build /opt/trisnap /usr/local
 RUN trisnap --version

@@ -5,6 +5,7 @@
 // are left out. In process rather than by spawning the binary, so that the per-phase seconds come
 // straight from RunResult and process start-up is not timed; peak memory is measured per
 // iteration by resetting the kernel's high-water mark (see PeakMemory).
+#include "app/allocator.hpp"
 #include "app/command.hpp"
 #include "app/options.hpp"
 #include "app/pipeline.hpp"
@@ -265,6 +266,7 @@ void register_benchmarks() {
 } // namespace trisnap
 
 int main(int argc, char** argv) {
+    trisnap::keep_freed_memory(); // as the trisnap binary
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv))
         return 2;

@@ -6,6 +6,7 @@
 // Counters: tiles, seam merges, halo growths, and `identical` = share of features equal to the
 // untiled output (tile invariance), measured once per layer outside the timing.
 // bench/tiling runs this with repetitions and writes bench/results/tiling.json (medians).
+#include "app/allocator.hpp"
 #include "core/snap.hpp"
 #include "core/wkt.hpp"
 #include "ogr_layer_reader.hpp"
@@ -110,4 +111,14 @@ const int registered = register_all();
 } // namespace
 } // namespace trisnap
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv)
+{
+    trisnap::keep_freed_memory(); // as the trisnap binary
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) {
+        return 2;
+    }
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}

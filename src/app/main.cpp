@@ -2,6 +2,7 @@
 // main() parses, runs one subcommand and turns each error type into one line and an exit code:
 // 0 ok, 1 processing or I/O error, 2 bad arguments or config, 3 problems under --strict.
 #include "app/about.hpp"
+#include "app/allocator.hpp"
 #include "app/arguments.hpp"
 #include "app/command.hpp"
 #include "app/suggest.hpp"
@@ -71,6 +72,7 @@ std::string footer_of(const std::string& command)
 
 int main(int argc, char** argv)
 {
+    trisnap::keep_freed_memory();
     trisnap::Arguments arguments;
     try {
         arguments = trisnap::normalise_arguments(argc, argv);

@@ -3,6 +3,7 @@
 // peak RSS per tool; this program also prints its own phases and peak RSS as one JSON object.
 //
 //   bench_compare_tools isr|sr|geos|floor IN OUT.gpkg --tolerance T [--layer L] [--pixel-factor F] [--json FILE]
+//                       [--no-index]
 //
 // isr / sr: CGAL Snap_rounding_2 (iterated / plain snap rounding, Halperin & Packer 2002) over the
 //   layer's ring and line segments, deduplicated as undirected segments (shared boundaries once),
@@ -18,6 +19,9 @@
 //   constrained Delaunay triangulation (Epick, exact predicates, crossings constructed in doubles)
 //   of its unique ring and line segments in one bulk insertion, and write the features unchanged
 //   (same fields, FIDs, geometry) in one transaction. T is ignored.
+// OUT's layers get GDAL's spatial index (its default; GDAL 3.6 builds it with one SQLite insertion
+// per feature), or none with --no-index: trisnap bulk loads its own (io/gpkg_rtree.hpp), so
+// anchors without an index are the strictest comparison for its write.
 // Exit codes: 0 ok, 1 I/O or tool error, 2 bad arguments.
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
@@ -105,10 +109,14 @@ DatasetPtr create_output(const std::string& path)
     return ds;
 }
 
+bool g_no_index = false; ///< --no-index
+
 OGRLayer* create_layer(GDALDataset& ds, const std::string& name, const OGRSpatialReference* srs,
                        OGRwkbGeometryType type)
 {
-    OGRLayer* layer = ds.CreateLayer(name.c_str(), const_cast<OGRSpatialReference*>(srs), type, nullptr); // GDAL 3.6 API takes non-const
+    char* no_index[] = {const_cast<char*>("SPATIAL_INDEX=NO"), nullptr};
+    OGRLayer* layer = ds.CreateLayer(name.c_str(), const_cast<OGRSpatialReference*>(srs), type,
+                                     g_no_index ? no_index : nullptr); // GDAL 3.6 API takes non-const
     if (!layer) throw io_error(ds.GetDescription() + std::string(": cannot create layer ") + name);
     return layer;
 }
@@ -414,6 +422,7 @@ int main(int argc, char** argv)
     app.add_option("--tolerance", tolerance, "tolerance T in layer units")->required();
     app.add_option("--pixel-factor", pixel_factor, "ISR/SR pixel size as a factor of T (default 1)");
     app.add_option("--json", json_path, "also write the JSON here");
+    app.add_flag("--no-index", g_no_index, "write OUT's layers without a spatial index (SPATIAL_INDEX=NO)");
     try {
         app.parse(argc, argv);
         if (!(tolerance > 0) || !std::isfinite(tolerance)) throw CLI::ValidationError("--tolerance", "must be finite and > 0");

@@ -80,7 +80,7 @@ std::size_t fid_buffer(std::uint64_t memory_limit)
 
 std::size_t index_boxes(std::uint64_t memory_limit)
 {
-    return memory_limit ? static_cast<std::size_t>(memory_limit / 64 / sizeof(RtreeEntry)) : std::size_t{1} << 26;
+    return memory_limit ? static_cast<std::size_t>(memory_limit / 32 / sizeof(RtreeEntry)) : std::size_t{1} << 26;
 }
 
 std::uint64_t gdal_cache_bytes(std::uint64_t memory_limit)

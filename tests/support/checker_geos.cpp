@@ -110,18 +110,66 @@ GeomPtr without_pointless_shells(const GeosContext& ctx, const GEOSGeometry* g) 
                                                 static_cast<unsigned>(kept.size())));
 }
 
+// One ring's area by the odd-even rule: GEOS's LINEWORK repair of the ring alone (faces of the
+// noded ring, alternating). Null when GEOS fails.
+GeomPtr ring_area(const GeosContext& ctx, const GEOSGeometry* ring) {
+    GEOSCoordSequence* seq = GEOSCoordSeq_clone_r(ctx.get(), GEOSGeom_getCoordSeq_r(ctx.get(), ring));
+    GEOSGeometry* shell = seq ? GEOSGeom_createLinearRing_r(ctx.get(), seq) : nullptr;
+    if (!shell)
+        return nullptr;
+    const GeomPtr polygon = own(ctx, GEOSGeom_createPolygon_r(ctx.get(), shell, nullptr, 0));
+    GEOSMakeValidParams* params = GEOSMakeValidParams_create_r(ctx.get());
+    GEOSMakeValidParams_setMethod_r(ctx.get(), params, GEOS_MAKE_VALID_LINEWORK);
+    GeomPtr fixed = polygon ? own(ctx, GEOSMakeValidWithParams_r(ctx.get(), polygon.get(), params)) : nullptr;
+    GEOSMakeValidParams_destroy_r(ctx.get(), params);
+    GeomPtr area = polygonal_parts(ctx, std::move(fixed));
+    if (!area)
+        return nullptr;
+    const int type = GEOSGeomTypeId_r(ctx.get(), area.get());
+    if (type != GEOS_POLYGON && type != GEOS_MULTIPOLYGON) // a ring with no area: lines, points
+        return own(ctx, GEOSGeom_createEmptyPolygon_r(ctx.get()));
+    return area;
+}
+
+// The odd-even area of all of g's rings: the symmetric difference of each ring's own area.
+GeomPtr odd_even_area(const GeosContext& ctx, const GEOSGeometry* g) {
+    const int type = GEOSGeomTypeId_r(ctx.get(), g);
+    if (type != GEOS_MULTIPOLYGON && type != GEOS_POLYGON)
+        return nullptr;
+    GeomPtr area;
+    const int parts = type == GEOS_POLYGON ? 1 : GEOSGetNumGeometries_r(ctx.get(), g);
+    for (int i = 0; i < parts; ++i) {
+        const GEOSGeometry* poly = type == GEOS_POLYGON ? g : GEOSGetGeometryN_r(ctx.get(), g, i);
+        const int holes = GEOSGetNumInteriorRings_r(ctx.get(), poly);
+        for (int k = -1; k < holes; ++k) {
+            const GEOSGeometry* ring = k < 0 ? GEOSGetExteriorRing_r(ctx.get(), poly) : GEOSGetInteriorRingN_r(ctx.get(), poly, k);
+            GeomPtr piece = ring_area(ctx, ring);
+            if (!piece)
+                return nullptr;
+            area = area ? own(ctx, GEOSSymDifference_r(ctx.get(), area.get(), piece.get())) : std::move(piece);
+            if (!area)
+                return nullptr;
+        }
+    }
+    return area;
+}
+
 // Inputs may be invalid (bowties, overlapping rings, holes outside their shell): GEOS overlay
 // would throw on them, so pair tests run on a valid stand-in covering the area the engine gives
-// them, by the odd-even rule: GEOS's LINEWORK method (faces of the noded rings, alternating).
-// The STRUCTURE method would drop a hole lying outside its shell, which the engine keeps as
-// area, and make an overlap with it look new (found by fuzz_snap). A polygon whose shell has no
-// area is left out first, its holes with it: LINEWORK would alternate across such a hole's ring
-// inside another polygon of the feature, a hole of nothing cutting into something (found by
-// fuzz_snap: a degenerate shell's hole inside the feature's other polygon).
+// them, by the odd-even rule over all of the feature's rings: the symmetric difference of each
+// ring's own area. GEOS's LINEWORK repair of the whole feature is not that when rings cross: on
+// a self-crossing shell with a second ring lying mostly outside it, it left out an area the
+// second ring encloses once, which the engine (rightly, by the rule) keeps, and an overlap the
+// input had looked new (found by fuzz_snap). The STRUCTURE method would drop a hole lying
+// outside its shell altogether. LINEWORK of the whole stays the fallback when an overlay fails.
+// A polygon whose shell has no area is left out first, its holes with it: a hole of nothing
+// cuts nothing (found by fuzz_snap: a degenerate shell's hole inside the feature's other polygon).
 GeomPtr repair(const GeosContext& ctx, const GEOSGeometry* g) {
     const GeomPtr pruned = without_pointless_shells(ctx, g);
     if (pruned)
         g = pruned.get();
+    if (GeomPtr area = odd_even_area(ctx, g))
+        return area;
     GEOSMakeValidParams* params = GEOSMakeValidParams_create_r(ctx.get());
     GEOSMakeValidParams_setMethod_r(ctx.get(), params, GEOS_MAKE_VALID_LINEWORK);
     GeomPtr fixed = own(ctx, GEOSMakeValidWithParams_r(ctx.get(), g, params));

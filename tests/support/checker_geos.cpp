@@ -1,6 +1,7 @@
 #include "checker_geos.hpp"
 
 #include <algorithm>
+#include <cstddef>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -110,58 +111,102 @@ GeomPtr without_pointless_shells(const GeosContext& ctx, const GEOSGeometry* g) 
                                                 static_cast<unsigned>(kept.size())));
 }
 
-// One ring's area by the odd-even rule: GEOS's LINEWORK repair of the ring alone (faces of the
-// noded ring, alternating). Null when GEOS fails.
-GeomPtr ring_area(const GeosContext& ctx, const GEOSGeometry* ring) {
-    GEOSCoordSequence* seq = GEOSCoordSeq_clone_r(ctx.get(), GEOSGeom_getCoordSeq_r(ctx.get(), ring));
-    GEOSGeometry* shell = seq ? GEOSGeom_createLinearRing_r(ctx.get(), seq) : nullptr;
-    if (!shell)
-        return nullptr;
-    const GeomPtr polygon = own(ctx, GEOSGeom_createPolygon_r(ctx.get(), shell, nullptr, 0));
-    GEOSMakeValidParams* params = GEOSMakeValidParams_create_r(ctx.get());
-    GEOSMakeValidParams_setMethod_r(ctx.get(), params, GEOS_MAKE_VALID_LINEWORK);
-    GeomPtr fixed = polygon ? own(ctx, GEOSMakeValidWithParams_r(ctx.get(), polygon.get(), params)) : nullptr;
-    GEOSMakeValidParams_destroy_r(ctx.get(), params);
-    GeomPtr area = polygonal_parts(ctx, std::move(fixed));
-    if (!area)
-        return nullptr;
-    const int type = GEOSGeomTypeId_r(ctx.get(), area.get());
-    if (type != GEOS_POLYGON && type != GEOS_MULTIPOLYGON) // a ring with no area: lines, points
-        return own(ctx, GEOSGeom_createEmptyPolygon_r(ctx.get()));
-    return area;
-}
+using Edge = std::pair<std::pair<double, double>, std::pair<double, double>>;
 
-// The odd-even area of all of g's rings: the symmetric difference of each ring's own area.
-GeomPtr odd_even_area(const GeosContext& ctx, const GEOSGeometry* g) {
+// Every edge of every ring of g (a polygon or multipolygon), each as often as it is there.
+void ring_edges(const GeosContext& ctx, const GEOSGeometry* g, std::vector<Edge>& edges,
+                std::vector<GEOSGeometry*>& lines) {
     const int type = GEOSGeomTypeId_r(ctx.get(), g);
-    if (type != GEOS_MULTIPOLYGON && type != GEOS_POLYGON)
-        return nullptr;
-    GeomPtr area;
     const int parts = type == GEOS_POLYGON ? 1 : GEOSGetNumGeometries_r(ctx.get(), g);
     for (int i = 0; i < parts; ++i) {
         const GEOSGeometry* poly = type == GEOS_POLYGON ? g : GEOSGetGeometryN_r(ctx.get(), g, i);
         const int holes = GEOSGetNumInteriorRings_r(ctx.get(), poly);
         for (int k = -1; k < holes; ++k) {
             const GEOSGeometry* ring = k < 0 ? GEOSGetExteriorRing_r(ctx.get(), poly) : GEOSGetInteriorRingN_r(ctx.get(), poly, k);
-            GeomPtr piece = ring_area(ctx, ring);
-            if (!piece)
-                return nullptr;
-            area = area ? own(ctx, GEOSSymDifference_r(ctx.get(), area.get(), piece.get())) : std::move(piece);
-            if (!area)
-                return nullptr;
+            const GEOSCoordSequence* seq = GEOSGeom_getCoordSeq_r(ctx.get(), ring);
+            unsigned int n = 0;
+            if (!seq || !GEOSCoordSeq_getSize_r(ctx.get(), seq, &n) || n < 2)
+                continue;
+            std::pair<double, double> prev;
+            GEOSCoordSeq_getXY_r(ctx.get(), seq, 0, &prev.first, &prev.second);
+            for (unsigned int j = 1; j < n; ++j) {
+                std::pair<double, double> next;
+                GEOSCoordSeq_getXY_r(ctx.get(), seq, j, &next.first, &next.second);
+                if (next != prev)
+                    edges.emplace_back(prev, next);
+                prev = next;
+            }
+            lines.push_back(GEOSGeom_createLineString_r(ctx.get(), GEOSCoordSeq_clone_r(ctx.get(), seq)));
         }
     }
-    return area;
+}
+
+// How many of the edges a ray from (x, y) towards +x crosses (half-open in y, so a vertex on
+// the ray counts once).
+std::size_t crossings(const std::vector<Edge>& edges, double x, double y) {
+    std::size_t n = 0;
+    for (const auto& [a, b] : edges) {
+        if ((a.second > y) == (b.second > y))
+            continue;
+        const double at = a.first + (y - a.second) / (b.second - a.second) * (b.first - a.first);
+        if (at > x)
+            ++n;
+    }
+    return n;
+}
+
+// The area of g by the odd-even rule over all its rings, each edge counted as often as the
+// rings run along it: the faces of the noded rings (GEOS's Node and Polygonize) whose inner
+// point a ray leaves through an odd number of edges. Null when GEOS fails.
+GeomPtr odd_even_area(const GeosContext& ctx, const GEOSGeometry* g) {
+    const int type = GEOSGeomTypeId_r(ctx.get(), g);
+    if (type != GEOS_MULTIPOLYGON && type != GEOS_POLYGON)
+        return nullptr;
+    std::vector<Edge> edges;
+    std::vector<GEOSGeometry*> lines;
+    ring_edges(ctx, g, edges, lines);
+    if (std::find(lines.begin(), lines.end(), nullptr) != lines.end()) {
+        for (GEOSGeometry* l : lines)
+            if (l)
+                GEOSGeom_destroy_r(ctx.get(), l);
+        return nullptr;
+    }
+    const GeomPtr linework = own(ctx, GEOSGeom_createCollection_r(ctx.get(), GEOS_MULTILINESTRING, lines.data(),
+                                                                   static_cast<unsigned>(lines.size())));
+    const GeomPtr noded = linework ? own(ctx, GEOSNode_r(ctx.get(), linework.get())) : nullptr;
+    if (!noded)
+        return nullptr;
+    const GEOSGeometry* pieces[] = {noded.get()};
+    const GeomPtr faces = own(ctx, GEOSPolygonize_r(ctx.get(), pieces, 1));
+    if (!faces)
+        return nullptr;
+    std::vector<GEOSGeometry*> kept;
+    for (int i = 0; i < GEOSGetNumGeometries_r(ctx.get(), faces.get()); ++i) {
+        const GEOSGeometry* face = GEOSGetGeometryN_r(ctx.get(), faces.get(), i);
+        const GeomPtr inner = own(ctx, GEOSPointOnSurface_r(ctx.get(), face));
+        double x = 0, y = 0;
+        if (!inner || !GEOSGeomGetX_r(ctx.get(), inner.get(), &x) || !GEOSGeomGetY_r(ctx.get(), inner.get(), &y)) {
+            for (GEOSGeometry* k : kept)
+                GEOSGeom_destroy_r(ctx.get(), k);
+            return nullptr;
+        }
+        if (crossings(edges, x, y) % 2 == 1)
+            kept.push_back(GEOSGeom_clone_r(ctx.get(), face));
+    }
+    const GeomPtr collection = own(ctx, GEOSGeom_createCollection_r(ctx.get(), GEOS_MULTIPOLYGON, kept.data(),
+                                                                    static_cast<unsigned>(kept.size())));
+    return collection ? own(ctx, GEOSUnaryUnion_r(ctx.get(), collection.get())) : nullptr;
 }
 
 // Inputs may be invalid (bowties, overlapping rings, holes outside their shell): GEOS overlay
 // would throw on them, so pair tests run on a valid stand-in covering the area the engine gives
-// them, by the odd-even rule over all of the feature's rings: the symmetric difference of each
-// ring's own area. GEOS's LINEWORK repair of the whole feature is not that when rings cross: on
-// a self-crossing shell with a second ring lying mostly outside it, it left out an area the
-// second ring encloses once, which the engine (rightly, by the rule) keeps, and an overlap the
-// input had looked new (found by fuzz_snap). The STRUCTURE method would drop a hole lying
-// outside its shell altogether. LINEWORK of the whole stays the fallback when an overlay fails.
+// them, by the odd-even rule over all of the feature's rings (odd_even_area). GEOS's LINEWORK
+// repair is not that where edges run along each other or rings cross: it merges a doubled edge
+// and alternates across it, where the rule counts it twice; on a self-crossing shell with a
+// second ring mostly outside it, and on two shells sharing a doubled diagonal, it left out areas
+// the engine (rightly, by the rule) keeps, and an overlap the input had looked new (both found
+// by fuzz_snap). The STRUCTURE method would drop a hole lying outside its shell altogether.
+// LINEWORK stays the fallback when GEOS fails.
 // A polygon whose shell has no area is left out first, its holes with it: a hole of nothing
 // cuts nothing (found by fuzz_snap: a degenerate shell's hole inside the feature's other polygon).
 GeomPtr repair(const GeosContext& ctx, const GEOSGeometry* g) {

@@ -20,7 +20,7 @@ constexpr std::size_t k_max_cells = 51;         // SQLite's RTREE_MAXCELLS
 float down(double d)
 {
     if (!(d <= static_cast<double>(FLT_MAX))) {
-        return FLT_MAX; // beyond a float (or NaN): the largest finite float is still <= d
+        return FLT_MAX; // beyond a float: the largest finite one is still <= d (no NaN comes here)
     }
     if (d < -static_cast<double>(FLT_MAX)) {
         return -std::numeric_limits<float>::infinity();
@@ -47,8 +47,15 @@ float up(double d)
     return f;
 }
 
-double centre_x(const RtreeEntry& e) { return static_cast<double>(e.min_x) + static_cast<double>(e.max_x); }
-double centre_y(const RtreeEntry& e) { return static_cast<double>(e.min_y) + static_cast<double>(e.max_y); }
+// Twice the centre. A box from -infinity to +infinity (coordinates beyond a float's range on
+// both sides) has no centre: 0 stands in, as NaN would break the sorts' ordering.
+double centre(float lo, float hi)
+{
+    const double c = static_cast<double>(lo) + static_cast<double>(hi);
+    return std::isnan(c) ? 0.0 : c;
+}
+double centre_x(const RtreeEntry& e) { return centre(e.min_x, e.max_x); }
+double centre_y(const RtreeEntry& e) { return centre(e.min_y, e.max_y); }
 
 /// One level of Sort-Tile-Recursive: the items cut into nodes of at most max_cells.
 std::vector<std::vector<RtreeEntry>> pack_level(std::vector<RtreeEntry> items, std::size_t max_cells)

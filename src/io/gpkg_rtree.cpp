@@ -124,29 +124,21 @@ void put_float(std::string& out, std::size_t at, float f)
     }
 }
 
-std::string identifier(const std::string& name)
+/// `text` between `quote`s, a quote inside doubled: an SQL identifier ("...") or string ('...').
+std::string quoted(const std::string& text, char quote)
 {
-    std::string out = "\"";
-    for (char c : name) {
-        out += c;
-        if (c == '"') {
-            out += '"';
-        }
-    }
-    return out + "\"";
-}
-
-std::string literal(const std::string& text)
-{
-    std::string out = "'";
+    std::string out(1, quote);
     for (char c : text) {
         out += c;
-        if (c == '\'') {
-            out += '\'';
+        if (c == quote) {
+            out += quote;
         }
     }
-    return out + "'";
+    return out + quote;
 }
+
+std::string identifier(const std::string& name) { return quoted(name, '"'); }
+std::string literal(const std::string& text) { return quoted(text, '\''); }
 
 std::string hex(const std::string& bytes)
 {

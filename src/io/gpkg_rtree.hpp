@@ -67,9 +67,6 @@ public:
     /// message ending with `outcome` (what was left at OUT).
     void write(GDALDataset& dataset, OGRLayer& layer, const std::string& path, const std::string& outcome);
 
-    /// True when the boxes outgrew max_entries and write() falls back to GDAL's own build.
-    bool falls_back() const { return m_fallback; }
-
 private:
     std::size_t m_max_entries;
     std::vector<RtreeEntry> m_entries;

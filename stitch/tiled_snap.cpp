@@ -219,8 +219,7 @@ void TiledRun::plan(const SpoolMeta& meta, const PassProgress& progress)
         bo.buffer_bytes = static_cast<std::size_t>(std::clamp<std::uint64_t>(m.schedule.memory_pool / 8, 1u << 20, 64u << 20));
     }
     m.layout = make_buckets(m.store, meta, tiling, bo, progress);
-    m.meta.sample.xs = {}; // only the plan needed them; the extent stays
-    m.meta.sample.ys = {};
+    m.meta.sample.drop_sample(); // only the plan needed them; the extent stays
     m.groups = Groups::of_layout(m.layout);
     m.save_groups();
 }

@@ -39,6 +39,14 @@ struct PlanInput {
     std::vector<double> xs;
     std::vector<double> ys;
     int level = 0;
+
+    /// Frees the sampled vertices once the plan is made (the extent and counts stay). Not
+    /// `xs = {}`: that assigns an empty initializer list and keeps the capacity (up to 256 MiB).
+    void drop_sample()
+    {
+        std::vector<double>().swap(xs);
+        std::vector<double>().swap(ys);
+    }
 };
 
 struct PlanOptions {

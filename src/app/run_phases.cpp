@@ -136,8 +136,7 @@ bool RunPhases::load_read()
     take_read(summary);
     if (m_work.store().exists(stitch::files::layout)) {
         // The sample's vertices serve only the tile plan, which is made (up to 256 MiB).
-        m_meta.sample.xs = {};
-        m_meta.sample.ys = {};
+        m_meta.sample.drop_sample();
     }
     return true;
 }
@@ -199,8 +198,7 @@ void RunPhases::spool()
         m_progress.start("spool", static_cast<std::int64_t>(m_meta.spooled), "features");
         guarded([&] { m_run->plan(m_meta, on_pass); });
         // The sample's vertices served only the plan (up to limit/16 bytes).
-        m_meta.sample.xs = {};
-        m_meta.sample.ys = {};
+        m_meta.sample.drop_sample();
         m_progress.finish();
     });
 }

@@ -31,13 +31,16 @@ struct Owner {
     bool line = false;
 };
 
+/// 48 bytes: one per triangulation vertex, the engine's largest table after CGAL's own. The
+/// rare list of owners a vertex was split into lives beside it (Mesh::snapped_into).
 struct VertexRecord {
     cdt::Vertex_handle handle;
     double x = 0, y = 0, z = 0;
     double weight = 1;                         ///< how many vertices were merged into this one
+    std::uint32_t snapped = cdt::k_no_id;      ///< its list in Mesh::m_snapped, if it has one
     bool alive = true;
-    std::vector<std::uint32_t> snapped_into;   ///< owners of edges this vertex was split into, once per split
 };
+static_assert(sizeof(VertexRecord) <= 48, "VertexRecord is one per vertex: keep it small");
 
 struct EdgeHit {
     double d2; ///< squared distance
@@ -143,6 +146,9 @@ public:
     void for_each_owned_edge(F&& f) const { m_edge_owners.for_each(f); }
     /// Records that vertex v was split into edges of these owners (the guard on repeated splits).
     void note_snapped(std::uint32_t v, const std::vector<std::uint32_t>& owners);
+    /// The owners of edges vertex v was split into, once per split (and those of the vertices
+    /// merged into it).
+    const std::vector<std::uint32_t>& snapped_into(std::uint32_t v) const;
 
 private:
     struct Job {
@@ -215,6 +221,7 @@ private:
 
     cdt::Triangulation m_tri;
     std::vector<VertexRecord> m_vertices;
+    std::vector<std::vector<std::uint32_t>> m_snapped; ///< VertexRecord::snapped indexes it
     std::vector<std::uint32_t> m_forward;
     std::vector<Owner> m_owners;
     EdgeOwners m_edge_owners;

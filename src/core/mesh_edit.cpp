@@ -79,8 +79,16 @@ void Mesh::merge_into(std::uint32_t target, std::span<const std::uint32_t> olds)
             ++zn;
         }
         t.weight += r.weight;
-        t.snapped_into.insert(t.snapped_into.end(), r.snapped_into.begin(), r.snapped_into.end());
-        r.snapped_into.clear();
+        if (r.snapped != cdt::k_no_id && !m_snapped[r.snapped].empty()) {
+            if (t.snapped == cdt::k_no_id) { // before taking references into m_snapped
+                t.snapped = static_cast<std::uint32_t>(m_snapped.size());
+                m_snapped.emplace_back();
+            }
+            std::vector<std::uint32_t>& into = m_snapped[t.snapped];
+            std::vector<std::uint32_t>& from = m_snapped[r.snapped];
+            into.insert(into.end(), from.begin(), from.end());
+            from.clear();
+        }
         r.alive = false;
         r.handle = cdt::Vertex_handle();
         m_forward[o] = target;
@@ -144,8 +152,23 @@ void Mesh::take_edge_z(std::uint32_t v, std::uint32_t b, std::uint32_t c)
 
 void Mesh::note_snapped(std::uint32_t v, const std::vector<std::uint32_t>& owners)
 {
-    auto& into = m_vertices[v].snapped_into;
+    if (owners.empty()) {
+        return;
+    }
+    std::uint32_t& list = m_vertices[v].snapped;
+    if (list == cdt::k_no_id) {
+        list = static_cast<std::uint32_t>(m_snapped.size());
+        m_snapped.emplace_back();
+    }
+    std::vector<std::uint32_t>& into = m_snapped[list];
     into.insert(into.end(), owners.begin(), owners.end());
+}
+
+const std::vector<std::uint32_t>& Mesh::snapped_into(std::uint32_t v) const
+{
+    static const std::vector<std::uint32_t> none;
+    const std::uint32_t list = m_vertices[v].snapped;
+    return list == cdt::k_no_id ? none : m_snapped[list];
 }
 
 } // namespace trisnap::detail

@@ -26,7 +26,7 @@ bool Snapper::visible(std::uint32_t a, std::uint32_t b)
 
 bool Snapper::guard_allows(std::uint32_t v, std::uint32_t b, std::uint32_t c, bool count_guard)
 {
-    const std::vector<std::uint32_t>& into = m_mesh.vertex(v).snapped_into;
+    const std::vector<std::uint32_t>& into = m_mesh.snapped_into(v);
     m_mesh.owners_of_edge(b, c, m_owners);
     for (std::uint32_t o : m_owners) {
         if (std::count(into.begin(), into.end(), o) >= k_max_snaps_per_edge) {

@@ -1,6 +1,7 @@
 #include "core/evidence.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <string>
 #include <tuple>
@@ -15,42 +16,13 @@ Coord midpoint(const Mesh& mesh, std::uint32_t u, std::uint32_t v)
     return Coord{0.5 * (a.x + b.x), 0.5 * (a.y + b.y)};
 }
 
-// A sub-edge owned twice by one polygon feature: two of its edges overlap there.
-void flag_doubly_owned(const Mesh& mesh, const Region& region, std::vector<bool>& flag)
-{
-    std::vector<std::tuple<std::uint64_t, std::uint32_t>> uses; // (edge, feature)
-    mesh.for_each_owned_edge([&](std::uint32_t u, std::uint32_t v, OwnerRef ref) {
-        const Owner& o = mesh.owner_at(ref.owner);
-        if (!o.line) {
-            uses.emplace_back(edge_key(u, v), o.feature);
-        }
-    });
-    std::sort(uses.begin(), uses.end());
-    for (std::size_t k = 1; k < uses.size(); ++k) {
-        if (uses[k] != uses[k - 1]) {
-            continue;
-        }
-        const std::uint64_t key = std::get<0>(uses[k]);
-        const Coord m = midpoint(mesh, static_cast<std::uint32_t>(key >> 32), static_cast<std::uint32_t>(key));
-        if (region.contains(m.x, m.y)) {
-            flag[std::get<1>(uses[k])] = true;
-        }
-    }
-}
+// Vertices inside an input edge of a polygon feature: (vertex, feature, owner).
+using Inside = std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>>;
 
 // A vertex inside two input edges of one polygon feature: two straight edges through one
 // interior point either cross there or overlap.
-void flag_shared_interior(const Mesh& mesh, const Region& region, std::vector<bool>& flag)
+void flag_shared_interior(const Mesh& mesh, const Region& region, Inside& inside, std::vector<bool>& flag)
 {
-    std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>> inside; // (vertex, feature, owner)
-    mesh.for_each_owned_edge([&](std::uint32_t u, std::uint32_t v, OwnerRef ref) {
-        const Owner& o = mesh.owner_at(ref.owner);
-        for (const std::uint32_t x : {u, v}) {
-            if (!o.line && x != o.from && x != o.to) {
-                inside.emplace_back(x, o.feature, ref.owner);
-            }
-        }
-    });
     std::sort(inside.begin(), inside.end());
     inside.erase(std::unique(inside.begin(), inside.end()), inside.end());
     for (std::size_t k = 1; k < inside.size(); ++k) {
@@ -72,11 +44,39 @@ bool member(const FaceLabels& labels, cdt::Face_handle f, std::uint32_t feature)
 
 } // namespace
 
+// One pass over the owner table. A sub-edge owned twice by one polygon feature means two of its
+// edges overlap there; the table lists an edge's owners one after another, so that is found
+// per edge, without gathering and sorting every (edge, feature) pair.
 std::vector<bool> self_intersecting(const Mesh& mesh, std::size_t features, const Region& region)
 {
     std::vector<bool> flag(features, false);
-    flag_doubly_owned(mesh, region, flag);
-    flag_shared_interior(mesh, region, flag);
+    Inside inside;
+    std::uint64_t edge = 0; // no edge joins vertex 0 to itself
+    std::vector<std::uint32_t> owners_here; // polygon features owning `edge` so far
+    mesh.for_each_owned_edge([&](std::uint32_t u, std::uint32_t v, OwnerRef ref) {
+        const Owner& o = mesh.owner_at(ref.owner);
+        if (o.line) {
+            return;
+        }
+        for (const std::uint32_t x : {u, v}) {
+            if (x != o.from && x != o.to) {
+                inside.emplace_back(x, o.feature, ref.owner);
+            }
+        }
+        if (const std::uint64_t key = edge_key(u, v); key != edge) {
+            edge = key;
+            owners_here.clear();
+        }
+        if (std::find(owners_here.begin(), owners_here.end(), o.feature) == owners_here.end()) {
+            owners_here.push_back(o.feature);
+            return;
+        }
+        const Coord m = midpoint(mesh, std::min(u, v), std::max(u, v));
+        if (region.contains(m.x, m.y)) {
+            flag[o.feature] = true;
+        }
+    });
+    flag_shared_interior(mesh, region, inside, flag);
     return flag;
 }
 
@@ -85,11 +85,22 @@ std::vector<double> edge_deviation(const Mesh& mesh, const std::vector<CleanFeat
     std::vector<double> worst(clean.size(), 0.0);
     mesh.for_each_owned_edge([&](std::uint32_t u, std::uint32_t v, OwnerRef ref) {
         const Owner& o = mesh.owner_at(ref.owner);
+        // An end of the input edge, still an input point, is exactly that end: distance 0, which
+        // cannot raise the maximum. Most pieces are whole input edges, so this skips nearly all
+        // of the walk to the feature's coordinates (three dependent loads in table order).
+        const auto at_own_end = [&](std::uint32_t x) { return (x == o.from || x == o.to) && mesh.is_input_point(x); };
+        if (at_own_end(u) && at_own_end(v)) {
+            return;
+        }
         const CleanFeature& cf = clean[o.feature];
         const std::vector<Coord>& pts = o.line ? cf.lines[o.part] : cf.rings[o.part].points;
         const Coord& a = pts[o.seg];
         const Coord& b = pts[(o.seg + 1) % pts.size()];
         for (const std::uint32_t x : {u, v}) {
+            if (at_own_end(x)) {
+                assert(distance_point_segment(mesh.vertex(x).x, mesh.vertex(x).y, a.x, a.y, b.x, b.y) == 0.0);
+                continue;
+            }
             const VertexRecord& r = mesh.vertex(x);
             if (region.contains(r.x, r.y)) {
                 worst[o.feature] = std::max(worst[o.feature], distance_point_segment(r.x, r.y, a.x, a.y, b.x, b.y));

@@ -61,6 +61,9 @@ public:
     cdt::Triangulation& tri() { return m_tri; }
     const cdt::Triangulation& tri() const { return m_tri; }
     const VertexRecord& vertex(std::uint32_t id) const { return m_vertices[id]; }
+    /// Whether vertex id is an input point. Vertices never move (an edit removes vertices and
+    /// inserts new ones), so an input point's vertex, while alive, is exactly where it was read.
+    bool is_input_point(std::uint32_t id) const { return id < m_input_points; }
     std::size_t vertex_slots() const { return m_vertices.size(); }
     std::uint32_t id(cdt::Vertex_handle h) const { return h->info().id; }
     const Owner& owner_at(std::uint32_t index) const { return m_owners[index]; }
@@ -221,6 +224,7 @@ private:
 
     cdt::Triangulation m_tri;
     std::vector<VertexRecord> m_vertices;
+    std::uint32_t m_input_points = 0; ///< ids below it are the input's distinct points
     std::vector<std::vector<std::uint32_t>> m_snapped; ///< VertexRecord::snapped indexes it
     std::vector<std::uint32_t> m_forward;
     std::vector<Owner> m_owners;

@@ -103,6 +103,7 @@ void Mesh::insert_points(const std::vector<CleanFeature>& features, double reach
         zs.push_back(mean_z(pts.begin() + i, pts.begin() + j));
         i = j;
     }
+    m_input_points = static_cast<std::uint32_t>(unique.size());
     for (const auto& corner : frame_points(pts, reach, static_cast<std::uint32_t>(unique.size()))) {
         unique.push_back(corner);
         zs.push_back(std::nan(""));

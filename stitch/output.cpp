@@ -107,7 +107,8 @@ std::vector<PieceStream::Input> merge_rounds(tiling::WorkStore& store, std::vect
 struct OutputMerger::Impl {
     Impl(tiling::WorkStore& s, const SpoolMeta& m, const SnapOptions& o) : store(s), meta(m), options(o), spooled(s) {}
     void read_reports(const std::vector<std::size_t>& live);
-    Geometry build(const detail::CleanFeature& cf, bool has_z, const std::vector<Piece>& pieces);
+    /// The feature's output from its pieces (a whole piece's geometry is moved out of it).
+    Geometry build(const detail::CleanFeature& cf, bool has_z, std::vector<Piece>& pieces);
     void tile_problems(const detail::CleanFeature& cf, const std::vector<Piece>& pieces, std::vector<Problem>& out) const;
 
     tiling::WorkStore& store;
@@ -137,11 +138,11 @@ void OutputMerger::Impl::read_reports(const std::vector<std::size_t>& live)
     }
 }
 
-Geometry OutputMerger::Impl::build(const detail::CleanFeature& cf, bool has_z, const std::vector<Piece>& pieces)
+Geometry OutputMerger::Impl::build(const detail::CleanFeature& cf, bool has_z, std::vector<Piece>& pieces)
 {
     if (pieces.size() == 1 && pieces[0].whole) {
         ++counts.copied;
-        Geometry g = pieces[0].geometry;
+        Geometry g = std::move(pieces[0].geometry);
         g.has_z = has_z;
         return g;
     }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <deque>
 #include <map>
+#include <unordered_map>
 
 namespace trisnap::detail {
 namespace {
@@ -47,17 +48,29 @@ private:
             }
         }
         std::sort(m_toggle.begin(), m_toggle.end());
-        std::vector<std::uint32_t> odd;
+        m_odd.clear();
         for (std::size_t k = 0; k < m_toggle.size();) {
             std::size_t j = k;
             while (j < m_toggle.size() && m_toggle[j] == m_toggle[k]) ++j;
-            if ((j - k) % 2 == 1) odd.push_back(m_toggle[k]);
+            if ((j - k) % 2 == 1) m_odd.push_back(m_toggle[k]);
             k = j;
         }
-        if (odd.empty()) return label;
+        if (m_odd.empty()) return label;
+        if (m_odd.size() > 1) return toggled(label);
+        // Nearly every crossing toggles one feature, and the same few transitions repeat along a
+        // boundary: remembered by (label, feature), so the interning map (ordered sets of
+        // features) is searched once per transition, not once per crossed edge.
+        const auto [it, added] = m_steps.try_emplace((std::uint64_t{label} << 32) | m_odd[0], 0u);
+        if (added) it->second = toggled(label);
+        return it->second;
+    }
+
+    // The label of `label`'s set with the features in m_odd toggled.
+    std::uint32_t toggled(std::uint32_t label)
+    {
         std::vector<std::uint32_t> next;
         const std::vector<std::uint32_t>& cur = m_out.sets[label];
-        std::set_symmetric_difference(cur.begin(), cur.end(), odd.begin(), odd.end(), std::back_inserter(next));
+        std::set_symmetric_difference(cur.begin(), cur.end(), m_odd.begin(), m_odd.end(), std::back_inserter(next));
         return intern(std::move(next));
     }
 
@@ -73,6 +86,8 @@ private:
     std::map<std::vector<std::uint32_t>, std::uint32_t> m_index;
     std::vector<OwnerRef> m_refs;
     std::vector<std::uint32_t> m_toggle;
+    std::vector<std::uint32_t> m_odd; ///< features an edge's owners toggle (odd count)
+    std::unordered_map<std::uint64_t, std::uint32_t> m_steps; ///< (label, feature) -> label across
 };
 
 } // namespace

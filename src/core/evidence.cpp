@@ -36,12 +36,6 @@ void flag_shared_interior(const Mesh& mesh, const Region& region, Inside& inside
     }
 }
 
-bool member(const FaceLabels& labels, cdt::Face_handle f, std::uint32_t feature)
-{
-    const std::vector<std::uint32_t>& set = labels.sets[f->info().label];
-    return std::binary_search(set.begin(), set.end(), feature);
-}
-
 } // namespace
 
 // One pass over the owner table. A sub-edge owned twice by one polygon feature means two of its
@@ -110,37 +104,58 @@ std::vector<double> edge_deviation(const Mesh& mesh, const std::vector<CleanFeat
     return worst;
 }
 
-void report_collapsed_edges(Mesh& mesh, const FaceLabels& labels, const std::vector<CleanFeature>& clean,
-                            const std::vector<bool>& written, const Region& region, std::vector<Problem>& problems)
+void report_collapsed_edges(const Mesh& mesh, const std::vector<CleanFeature>& clean, const std::vector<bool>& written,
+                            const Region& region, std::vector<Problem>& problems)
 {
     std::vector<std::size_t> count(clean.size(), 0);
     std::vector<Coord> where(clean.size());
-    std::vector<OwnerRef> refs;
-    // The triangulation's constrained edges with their owners (an owned pair that is no edge of
-    // the triangulation bounds nothing); the counts and the smallest midpoint do not depend on
-    // the order.
-    for (const auto& [fh, i] : mesh.tri().finite_edges()) {
-        if (!fh->is_constrained(i)) {
-            continue;
-        }
-        const std::uint32_t u = fh->vertex(cdt::Triangulation::cw(i))->info().id;
-        const std::uint32_t v = fh->vertex(cdt::Triangulation::ccw(i))->info().id;
-        refs.clear();
-        mesh.owner_refs(u, v, refs);
-        for (const OwnerRef& ref : refs) {
-            const Owner& o = mesh.owner_at(ref.owner);
-            if (o.line || member(labels, fh, o.feature) != member(labels, fh->neighbor(i), o.feature)) {
+    // A piece of a polygon's input edge has the same membership on both sides exactly when the
+    // polygon owns it an even number of times: labels are crossing parities (labelling.cpp), and
+    // each polygon's pieces form closed chains, so the parity does not depend on the path. That
+    // is read from the owner table, which lists an edge's owners one after another, without
+    // walking the triangulation's edges and looking each one up; only an edge with such a
+    // piece is checked against the triangulation (an owned pair that is no constrained edge of
+    // it bounds nothing). The counts and the smallest midpoint do not depend on the order.
+    std::uint64_t edge = 0; // no edge joins vertex 0 to itself
+    std::uint32_t eu = 0, ev = 0;
+    std::vector<std::uint32_t> owners; // polygon features owning the edge, once per owner
+    const auto settle = [&] {
+        std::sort(owners.begin(), owners.end());
+        int is_edge = -1; // not asked yet
+        for (std::size_t k = 0; k < owners.size();) {
+            std::size_t j = k;
+            while (j < owners.size() && owners[j] == owners[k]) ++j;
+            const std::uint32_t feature = owners[k];
+            const std::size_t times = j - k;
+            k = j;
+            if (times % 2 == 1) {
                 continue;
             }
-            const Coord mid = midpoint(mesh, std::min(u, v), std::max(u, v));
-            if (!region.contains(mid.x, mid.y)) {
+            if (is_edge < 0) {
+                is_edge = mesh.is_triangulation_constraint(eu, ev) ? 1 : 0;
+            }
+            const Coord mid = midpoint(mesh, eu, ev);
+            if (is_edge == 0 || !region.contains(mid.x, mid.y)) {
                 continue;
             }
-            if (count[o.feature]++ == 0 || std::tie(mid.x, mid.y) < std::tie(where[o.feature].x, where[o.feature].y)) {
-                where[o.feature] = mid;
+            if (count[feature] == 0 || std::tie(mid.x, mid.y) < std::tie(where[feature].x, where[feature].y)) {
+                where[feature] = mid;
             }
+            count[feature] += times;
         }
-    }
+        owners.clear();
+    };
+    mesh.for_each_owned_edge([&](std::uint32_t u, std::uint32_t v, OwnerRef ref) {
+        if (const std::uint64_t key = edge_key(u, v); key != edge) {
+            settle();
+            edge = key, eu = u, ev = v;
+        }
+        const Owner& o = mesh.owner_at(ref.owner);
+        if (!o.line) {
+            owners.push_back(o.feature);
+        }
+    });
+    settle();
     for (std::size_t f = 0; f < clean.size(); ++f) {
         if (count[f] == 0 || !written[f]) {
             continue;

@@ -24,9 +24,9 @@ std::vector<bool> self_intersecting(const Mesh& mesh, std::size_t features, cons
 std::vector<double> edge_deviation(const Mesh& mesh, const std::vector<CleanFeature>& clean, const Region& region);
 
 /// 209 for every polygon (not collapsed entirely: `written[f]`) with input edge pieces that have
-/// the same membership on both sides, at the smallest such piece.
-void report_collapsed_edges(Mesh& mesh, const FaceLabels& labels, const std::vector<CleanFeature>& clean,
-                            const std::vector<bool>& written, const Region& region, std::vector<Problem>& problems);
+/// the same membership on both sides (owned an even number of times), at the smallest such piece.
+void report_collapsed_edges(const Mesh& mesh, const std::vector<CleanFeature>& clean, const std::vector<bool>& written,
+                            const Region& region, std::vector<Problem>& problems);
 
 /// 205 (cap reached) or 207 (guard refused a split) for every feature with an edge at an
 /// unresolved vertex; `grid` > 0: the message says the run was not rounded to it.

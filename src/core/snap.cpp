@@ -237,7 +237,7 @@ SnapResult snap(const std::vector<Feature>& features, const SnapOptions& options
     for (std::size_t f = 0; f < clean.size(); ++f) {
         written[f] = !result.features[clean[f].index].geometry.empty();
     }
-    detail::report_collapsed_edges(mesh, labels, clean, written, options.report_region, result.problems);
+    detail::report_collapsed_edges(mesh, clean, written, options.report_region, result.problems);
     detail::report_unresolved(mesh, outcome, clean, options.report_region, options.grid, result.problems);
     st.output_vertices = mesh.tri().number_of_vertices() - Mesh::frame_vertices;
     st.seconds_extract = clock.lap();

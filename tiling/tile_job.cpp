@@ -140,7 +140,8 @@ TileOutcome run_tile(const TileJob& job, const SnapOptions& base, const Gather& 
         }
         in.features.clear();
         in.features.shrink_to_fit();
-        SnapResult result = snap(features, options);
+        // Without the cascade test nothing needs the input after the engine has cleaned it.
+        SnapResult result = job.max_growth > 0 ? snap(features, options) : snap(std::move(features), options);
         double x = 0;
         double y = 0;
         std::int64_t feature = 0;

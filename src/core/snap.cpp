@@ -178,7 +178,10 @@ bool outcome_problems(const CleanFeature& cf, const Geometry& g, double moved, c
 
 } // namespace detail
 
-SnapResult snap(const std::vector<Feature>& features, const SnapOptions& options)
+namespace {
+
+// `release`, when given, is `features` itself: emptied once the cleaned copy exists.
+SnapResult snap_features(const std::vector<Feature>& features, const SnapOptions& options, std::vector<Feature>* release)
 {
     if (const std::string msg = validate(options); !msg.empty()) throw std::invalid_argument(msg);
     SnapResult result;
@@ -190,6 +193,9 @@ SnapResult snap(const std::vector<Feature>& features, const SnapOptions& options
     }
     Stopwatch clock;
     std::vector<CleanFeature> clean = detail::clean_input(features, options.tolerance, result.problems);
+    if (release != nullptr) {
+        std::vector<Feature>().swap(*release); // `features` is empty from here on
+    }
     SnapStats& st = result.stats;
     for (const CleanFeature& cf : clean) {
         for (const auto& ring : cf.rings) st.input_vertices += ring.points.size();
@@ -244,6 +250,18 @@ SnapResult snap(const std::vector<Feature>& features, const SnapOptions& options
     sort_problems(result.problems);
     meter.finish();
     return result;
+}
+
+} // namespace
+
+SnapResult snap(const std::vector<Feature>& features, const SnapOptions& options)
+{
+    return snap_features(features, options, nullptr);
+}
+
+SnapResult snap(std::vector<Feature>&& features, const SnapOptions& options)
+{
+    return snap_features(features, options, &features);
 }
 
 } // namespace trisnap

@@ -3,7 +3,8 @@
 // which runs along pieces of its own input edges, so the bound is at least the distance of every
 // output vertex from the feature's input boundary. Measured here from input and output alone, by
 // brute force, sharing nothing with the engine's evidence pass (which skips the ends of input
-// edges that are still input points: this is what would catch a skip too many).
+// edges that are still input points: this is what would catch a skip too many). Also the
+// overload of snap() that frees its input after cleaning gives the same result.
 #include "snap_harness.hpp"
 
 #include "generators.hpp"
@@ -103,6 +104,29 @@ TEST(Displacement, BoundsEveryOutputVertexOnAWiggledCoverage)
     const std::vector<Feature> in = perturbed_grid_coverage(8, 8, 10.0, 0.2, 3, 6, 0.02);
     const SnapResult result = snap(in, options_at(t));
     EXPECT_GT(expect_bound_holds(in, result, t), 5u);
+}
+
+} // namespace
+} // namespace trisnap
+
+namespace trisnap {
+namespace {
+
+// snap(std::vector<Feature>&&) frees the input once the engine has its cleaned copy (the tiles do
+// this when there is no cascade test): the same result, and the input is gone.
+TEST(SnapOwningItsInput, GivesTheSameResultAndReleasesTheInput)
+{
+    const double t = 1.0;
+    const std::vector<Feature> in = near_degenerate_polygons(60, 100.0, t, 11);
+    const SnapResult kept = snap(in, options_at(t));
+    std::vector<Feature> given = in;
+    const SnapResult released = snap(std::move(given), options_at(t));
+    EXPECT_TRUE(given.empty());        // NOLINT(bugprone-use-after-move): the overload empties it
+    EXPECT_EQ(given.capacity(), 0u);   // NOLINT(bugprone-use-after-move)
+    EXPECT_EQ(output_by_id(released), output_by_id(kept));
+    EXPECT_EQ(problem_lines(released.problems), problem_lines(kept.problems));
+    EXPECT_EQ(released.stats.merges, kept.stats.merges);
+    EXPECT_GT(kept.stats.merges + kept.stats.splits, 0u);
 }
 
 } // namespace

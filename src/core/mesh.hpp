@@ -144,12 +144,18 @@ public:
     /// The owners of a-b oriented from a to b (appended).
     void owner_refs(std::uint32_t a, std::uint32_t b, std::vector<OwnerRef>& out) const { m_edge_owners.get(a, b, out); }
     bool is_constrained_edge(std::uint32_t a, std::uint32_t b) const { return m_edge_owners.contains(a, b); }
-    /// Whether a-b is an edge of the triangulation that CGAL holds as constrained.
+    /// Whether a-b is an edge of the triangulation that CGAL holds as constrained (never when
+    /// either vertex was merged away).
     bool is_triangulation_constraint(std::uint32_t a, std::uint32_t b) const
     {
+        const VertexRecord& ra = m_vertices[a];
+        const VertexRecord& rb = m_vertices[b];
+        if (!ra.alive || !rb.alive) {
+            return false;
+        }
         cdt::Face_handle f;
         int i = 0;
-        return m_tri.is_edge(m_vertices[a].handle, m_vertices[b].handle, f, i) && f->is_constrained(i);
+        return m_tri.is_edge(ra.handle, rb.handle, f, i) && f->is_constrained(i);
     }
     /// Calls f(u, v, OwnerRef) for every owner of every constrained edge (u < v, oriented u->v).
     template <class F>

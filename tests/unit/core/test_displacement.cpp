@@ -85,7 +85,7 @@ TEST(Displacement, AnEdgeBentThroughANeighboursVertexCountsTheBend)
     // whichever of the two moves carries a displacement of about 0.3.
     const std::vector<Feature> in = {square(1, 0, 0, 10), square(2, 4, 10.3, 2)};
     const SnapResult result = snap(in, options_at(1.0));
-    ASSERT_EQ(result.stats.merges + result.stats.splits > 0, true);
+    ASSERT_GT(result.stats.merges + result.stats.splits, 0u);
     EXPECT_GE(std::max(result.features[0].max_displacement, result.features[1].max_displacement), 0.29);
     EXPECT_EQ(expect_bound_holds(in, result, 1.0), 1u);
 }

@@ -9,6 +9,7 @@
 // entries in a pooled linked list per edge: about 32 bytes per edge, no allocation per edge.
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <vector>
 
 namespace trisnap::detail {
@@ -48,6 +49,23 @@ public:
         }
     }
 
+    /// Calls f(u, v, std::span<const OwnerRef>) once for every edge with all its entries, u < v,
+    /// oriented u -> v (gathered in `buffer`); order is the table's.
+    template <class F>
+    void for_each_grouped(F&& f, std::vector<OwnerRef>& buffer) const
+    {
+        for (std::size_t s = 0; s < m_keys.size(); ++s) {
+            if (m_keys[s] == k_empty) {
+                continue;
+            }
+            buffer.clear();
+            for (std::uint32_t n = m_heads[s]; n != k_none; n = m_nodes[n].next) {
+                buffer.push_back(unpack(m_nodes[n].packed));
+            }
+            f(static_cast<std::uint32_t>(m_keys[s] >> 32), static_cast<std::uint32_t>(m_keys[s]),
+              std::span<const OwnerRef>(buffer));
+        }
+    }
     /// Calls f(u, v) once for every edge, u < v; order is the table's.
     template <class F>
     void for_each_edge(F&& f) const

@@ -38,36 +38,31 @@ void flag_shared_interior(const Mesh& mesh, const Region& region, Inside& inside
 
 } // namespace
 
-// One pass over the owner table. A sub-edge owned twice by one polygon feature means two of its
-// edges overlap there; the table lists an edge's owners one after another, so that is found
-// per edge, without gathering and sorting every (edge, feature) pair.
+// One pass over the owner table: a sub-edge owned twice or more by one polygon feature means
+// two of its edges overlap there.
 std::vector<bool> self_intersecting(const Mesh& mesh, std::size_t features, const Region& region)
 {
     std::vector<bool> flag(features, false);
     Inside inside;
-    std::uint64_t edge = 0; // no edge joins vertex 0 to itself
-    std::vector<std::uint32_t> owners_here; // polygon features owning `edge` so far
-    mesh.for_each_owned_edge([&](std::uint32_t u, std::uint32_t v, OwnerRef ref) {
-        const Owner& o = mesh.owner_at(ref.owner);
-        if (o.line) {
-            return;
-        }
-        for (const std::uint32_t x : {u, v}) {
-            if (x != o.from && x != o.to) {
-                inside.emplace_back(x, o.feature, ref.owner);
+    std::vector<FeatureCount> counts;
+    mesh.for_each_edge_with_owners([&](std::uint32_t u, std::uint32_t v, std::span<const OwnerRef> refs) {
+        for (const OwnerRef& ref : refs) {
+            const Owner& o = mesh.owner_at(ref.owner);
+            for (const std::uint32_t x : {u, v}) {
+                if (!o.line && x != o.from && x != o.to) {
+                    inside.emplace_back(x, o.feature, ref.owner);
+                }
             }
         }
-        if (const std::uint64_t key = edge_key(u, v); key != edge) {
-            edge = key;
-            owners_here.clear();
-        }
-        if (std::find(owners_here.begin(), owners_here.end(), o.feature) == owners_here.end()) {
-            owners_here.push_back(o.feature);
-            return;
-        }
-        const Coord m = midpoint(mesh, std::min(u, v), std::max(u, v));
-        if (region.contains(m.x, m.y)) {
-            flag[o.feature] = true;
+        mesh.polygon_ownership(refs, counts);
+        for (const FeatureCount& c : counts) {
+            if (c.times < 2) {
+                continue;
+            }
+            const Coord m = midpoint(mesh, u, v);
+            if (region.contains(m.x, m.y)) {
+                flag[c.feature] = true;
+            }
         }
     });
     flag_shared_interior(mesh, region, inside, flag);
@@ -112,50 +107,30 @@ void report_collapsed_edges(const Mesh& mesh, const std::vector<CleanFeature>& c
     // A piece of a polygon's input edge has the same membership on both sides exactly when the
     // polygon owns it an even number of times: labels are crossing parities (labelling.cpp), and
     // each polygon's pieces form closed chains, so the parity does not depend on the path. That
-    // is read from the owner table, which lists an edge's owners one after another, without
-    // walking the triangulation's edges and looking each one up; only an edge with such a
-    // piece is checked against the triangulation (an owned pair that is no constrained edge of
-    // it bounds nothing). The counts and the smallest midpoint do not depend on the order.
-    std::uint64_t edge = 0; // no edge joins vertex 0 to itself
-    std::uint32_t eu = 0, ev = 0;
-    std::vector<std::uint32_t> owners; // polygon features owning the edge, once per owner
-    const auto settle = [&] {
-        std::sort(owners.begin(), owners.end());
+    // is read from the owner table; only an edge with such a piece is checked against the
+    // triangulation (an owned pair that is no constrained edge of it bounds nothing). The counts
+    // and the smallest midpoint do not depend on the order.
+    std::vector<FeatureCount> counts;
+    mesh.for_each_edge_with_owners([&](std::uint32_t u, std::uint32_t v, std::span<const OwnerRef> refs) {
+        mesh.polygon_ownership(refs, counts);
         int is_edge = -1; // not asked yet
-        for (std::size_t k = 0; k < owners.size();) {
-            std::size_t j = k;
-            while (j < owners.size() && owners[j] == owners[k]) ++j;
-            const std::uint32_t feature = owners[k];
-            const std::size_t times = j - k;
-            k = j;
-            if (times % 2 == 1) {
+        for (const FeatureCount& c : counts) {
+            if (c.times % 2 == 1) {
                 continue;
             }
             if (is_edge < 0) {
-                is_edge = mesh.is_triangulation_constraint(eu, ev) ? 1 : 0;
+                is_edge = mesh.is_triangulation_constraint(u, v) ? 1 : 0;
             }
-            const Coord mid = midpoint(mesh, eu, ev);
+            const Coord mid = midpoint(mesh, u, v);
             if (is_edge == 0 || !region.contains(mid.x, mid.y)) {
                 continue;
             }
-            if (count[feature] == 0 || std::tie(mid.x, mid.y) < std::tie(where[feature].x, where[feature].y)) {
-                where[feature] = mid;
+            if (count[c.feature] == 0 || std::tie(mid.x, mid.y) < std::tie(where[c.feature].x, where[c.feature].y)) {
+                where[c.feature] = mid;
             }
-            count[feature] += times;
-        }
-        owners.clear();
-    };
-    mesh.for_each_owned_edge([&](std::uint32_t u, std::uint32_t v, OwnerRef ref) {
-        if (const std::uint64_t key = edge_key(u, v); key != edge) {
-            settle();
-            edge = key, eu = u, ev = v;
-        }
-        const Owner& o = mesh.owner_at(ref.owner);
-        if (!o.line) {
-            owners.push_back(o.feature);
+            count[c.feature] += c.times;
         }
     });
-    settle();
     for (std::size_t f = 0; f < clean.size(); ++f) {
         if (count[f] == 0 || !written[f]) {
             continue;

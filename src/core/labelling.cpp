@@ -41,19 +41,10 @@ private:
         auto& tri = m_mesh.tri();
         m_refs.clear();
         m_mesh.owner_refs(f->vertex(tri.cw(i))->info().id, f->vertex(tri.ccw(i))->info().id, m_refs);
-        m_toggle.clear();
-        for (const OwnerRef& ref : m_refs) {
-            if (!m_mesh.owner_at(ref.owner).line) {
-                m_toggle.push_back(m_mesh.owner_at(ref.owner).feature);
-            }
-        }
-        std::sort(m_toggle.begin(), m_toggle.end());
+        m_mesh.polygon_ownership(m_refs, m_counts);
         m_odd.clear();
-        for (std::size_t k = 0; k < m_toggle.size();) {
-            std::size_t j = k;
-            while (j < m_toggle.size() && m_toggle[j] == m_toggle[k]) ++j;
-            if ((j - k) % 2 == 1) m_odd.push_back(m_toggle[k]);
-            k = j;
+        for (const FeatureCount& c : m_counts) {
+            if (c.times % 2 == 1) m_odd.push_back(c.feature);
         }
         if (m_odd.empty()) return label;
         if (m_odd.size() > 1) return toggled(label);
@@ -85,7 +76,7 @@ private:
     FaceLabels& m_out;
     std::map<std::vector<std::uint32_t>, std::uint32_t> m_index;
     std::vector<OwnerRef> m_refs;
-    std::vector<std::uint32_t> m_toggle;
+    std::vector<FeatureCount> m_counts;
     std::vector<std::uint32_t> m_odd; ///< features an edge's owners toggle (odd count)
     std::unordered_map<std::uint64_t, std::uint32_t> m_steps; ///< (label, feature) -> label across
 };

@@ -42,6 +42,12 @@ struct VertexRecord {
 };
 static_assert(sizeof(VertexRecord) <= 48, "VertexRecord is one per vertex: keep it small");
 
+/// How many times a polygon feature owns one edge.
+struct FeatureCount {
+    std::uint32_t feature;
+    std::uint32_t times;
+};
+
 struct EdgeHit {
     double d2; ///< squared distance
     std::uint32_t b, c; ///< b < c
@@ -160,6 +166,17 @@ public:
     /// Calls f(u, v, OwnerRef) for every owner of every constrained edge (u < v, oriented u->v).
     template <class F>
     void for_each_owned_edge(F&& f) const { m_edge_owners.for_each(f); }
+    /// Calls f(u, v, std::span<const OwnerRef>) once per constrained edge with all its owners.
+    template <class F>
+    void for_each_edge_with_owners(F&& f) const
+    {
+        std::vector<OwnerRef> buffer;
+        m_edge_owners.for_each_grouped(f, buffer);
+    }
+    /// The polygon features among `refs`, each with how many of them it is, by feature. Labels
+    /// toggle a feature across an edge it owns an odd number of times; owned twice or more, its
+    /// edges overlap there; an even number of times, the piece bounds nothing of it.
+    void polygon_ownership(std::span<const OwnerRef> refs, std::vector<FeatureCount>& out) const;
     /// Records that vertex v was split into edges of these owners (the guard on repeated splits).
     void note_snapped(std::uint32_t v, const std::vector<std::uint32_t>& owners);
     /// The owners of edges vertex v was split into, once per split (and those of the vertices

@@ -273,6 +273,27 @@ std::uint32_t Mesh::current(std::uint32_t id)
     return root;
 }
 
+void Mesh::polygon_ownership(std::span<const OwnerRef> refs, std::vector<FeatureCount>& out) const
+{
+    out.clear();
+    for (const OwnerRef& r : refs) {
+        const Owner& o = m_owners[r.owner];
+        if (!o.line) {
+            out.push_back(FeatureCount{o.feature, 1});
+        }
+    }
+    std::sort(out.begin(), out.end(), [](const FeatureCount& a, const FeatureCount& b) { return a.feature < b.feature; });
+    std::size_t kept = 0;
+    for (std::size_t k = 0; k < out.size(); ++k) {
+        if (kept > 0 && out[kept - 1].feature == out[k].feature) {
+            ++out[kept - 1].times;
+        } else {
+            out[kept++] = out[k];
+        }
+    }
+    out.resize(kept);
+}
+
 void Mesh::owners_of_edge(std::uint32_t a, std::uint32_t b, std::vector<std::uint32_t>& out) const
 {
     out.clear();

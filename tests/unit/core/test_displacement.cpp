@@ -2,9 +2,11 @@
 // max_displacement): every output vertex of a feature lies on the feature's output boundary,
 // which runs along pieces of its own input edges, so the bound is at least the distance of every
 // output vertex from the feature's input boundary. Measured here from input and output alone, by
-// brute force, sharing nothing with the engine's evidence pass (which skips the ends of input
-// edges that are still input points: this is what would catch a skip too many). Also the
-// overload of snap() that frees its input after cleaning gives the same result.
+// brute force, sharing nothing with the engine's evidence pass. The pass skips the ends of input
+// edges that are still input points; a pass that skipped every deviation fails the
+// near-degenerate case, but one that skipped every input point (not only the edge's own ends) is
+// not caught: on these inputs such points lie on other features' edges only up to rounding.
+// Also the overload of snap() that frees its input after cleaning gives the same result.
 #include "snap_harness.hpp"
 
 #include "generators.hpp"
@@ -79,10 +81,11 @@ std::size_t expect_bound_holds(const std::vector<Feature>& in, const SnapResult&
     return moved;
 }
 
-TEST(Displacement, AnEdgeBentThroughANeighboursVertexCountsTheBend)
+TEST(Displacement, ACornerMeetingANeighboursEdgeCountsTheMove)
 {
     // B's lower-left corner is 0.3 above A's top edge (t = 1): the corner and the edge meet, and
-    // whichever of the two moves carries a displacement of about 0.3.
+    // whichever of the two moves carries a displacement of about 0.3 (here the corner moves onto
+    // the edge, so B's input-vertex move bounds it, not A's edge deviation).
     const std::vector<Feature> in = {square(1, 0, 0, 10), square(2, 4, 10.3, 2)};
     const SnapResult result = snap(in, options_at(1.0));
     ASSERT_GT(result.stats.merges + result.stats.splits, 0u);

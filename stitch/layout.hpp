@@ -40,8 +40,9 @@ struct TilingOptions {
 /// manifest: raised whenever a record changes, so that a directory another encoding wrote is
 /// refused by --resume instead of misread. 2: the tile report keeps every engine counter;
 /// records.bin flags the features the read reported a problem for; read.bin lists the problem
-/// log's runs instead of holding the problems.
-inline constexpr int k_work_format = 2;
+/// log's runs instead of holding the problems. 3: a piece that is not whole carries its
+/// finished polygons after its edges.
+inline constexpr int k_work_format = 3;
 
 /// Work file names.
 namespace files {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <iterator>
 #include <map>
 #include <queue>
 #include <tuple>
@@ -105,7 +106,7 @@ std::vector<PieceStream::Input> merge_rounds(tiling::WorkStore& store, std::vect
 } // namespace
 
 struct OutputMerger::Impl {
-    Impl(tiling::WorkStore& s, const SpoolMeta& m, const SnapOptions& o) : store(s), meta(m), options(o), spooled(s) {}
+    Impl(tiling::WorkStore& s, const SpoolMeta& m, const SnapOptions& o) : store(s), meta(m), options(o), spooled(s, true) {}
     void read_reports(const std::vector<std::size_t>& live);
     /// The feature's output from its pieces (a whole piece's geometry is moved out of it).
     Geometry build(const detail::CleanFeature& cf, bool has_z, std::vector<Piece>& pieces);
@@ -114,7 +115,7 @@ struct OutputMerger::Impl {
     tiling::WorkStore& store;
     const SpoolMeta& meta;
     const SnapOptions& options;
-    SpooledFeatures spooled;
+    SpooledFeatures spooled; ///< outlines: build, tile_problems and outcome_problems need no more
     std::unique_ptr<PieceStream> stream;
     std::vector<TileReport> tiles;
     OutputCounts counts;
@@ -147,8 +148,13 @@ Geometry OutputMerger::Impl::build(const detail::CleanFeature& cf, bool has_z, s
         return g;
     }
     std::vector<DirectedEdge> edges;
-    for (const Piece& p : pieces) {
+    std::vector<Polygon> finished;
+    for (Piece& p : pieces) {
         edges.insert(edges.end(), p.edges.begin(), p.edges.end());
+        if (!p.whole && cf.polygonal) {
+            std::move(p.geometry.polygons.begin(), p.geometry.polygons.end(), std::back_inserter(finished));
+            continue;
+        }
         for (const Polygon& poly : p.geometry.polygons) {
             for (const Path& r : poly.rings) {
                 for (std::size_t i = 0; i + 1 < r.size(); ++i) {
@@ -162,12 +168,12 @@ Geometry OutputMerger::Impl::build(const detail::CleanFeature& cf, bool has_z, s
             }
         }
     }
-    if (edges.empty()) {
+    if (edges.empty() && finished.empty()) {
         return Geometry{Geometry::Type::Empty, {}, {}, has_z};
     }
     ++counts.assembled;
     if (cf.polygonal) {
-        return assemble_polygons(std::move(edges), has_z);
+        return assemble_polygons(std::move(edges), has_z, std::move(finished));
     }
     std::vector<Coord> starts;
     for (const auto& line : cf.lines) {

@@ -45,11 +45,15 @@ void put_piece(tiling::ByteWriter& w, const Piece& p)
 {
     w.put<std::uint64_t>(p.rank);
     w.put(p.displacement);
-    w.put<std::uint8_t>(static_cast<std::uint8_t>((p.whole ? 1 : 0) | (p.has_z ? 2 : 0)));
+    const bool finished = !p.whole && !p.geometry.polygons.empty();
+    w.put<std::uint8_t>(static_cast<std::uint8_t>((p.whole ? 1 : 0) | (p.has_z ? 2 : 0) | (finished ? 4 : 0)));
     if (p.whole) {
         tiling::put_geometry(w, p.geometry);
     } else {
         tiling::put_edges(w, p.edges, p.has_z);
+        if (finished) {
+            tiling::put_geometry(w, p.geometry);
+        }
     }
     w.put<std::uint32_t>(static_cast<std::uint32_t>(p.problems.size()));
     for (const Problem& q : p.problems) {
@@ -69,6 +73,9 @@ Piece get_piece(tiling::ByteReader& r)
         p.geometry = tiling::get_geometry(r);
     } else {
         p.edges = tiling::get_edges(r);
+        if ((flags & 4) != 0) {
+            p.geometry = tiling::get_geometry(r);
+        }
     }
     p.problems.resize(r.get_count(24));
     for (Problem& q : p.problems) {

@@ -25,8 +25,11 @@ struct Piece {
     double displacement = 0;
     bool whole = false;
     bool has_z = false;
-    Geometry geometry;               ///< when whole
-    std::vector<DirectedEdge> edges; ///< when not whole: the edges the tile owns
+    /// When whole: the feature's output. Otherwise its finished polygons: those inside the core
+    /// of one of the tile's leaves, all of whose edges the tile owns (stitched without tracing
+    /// them again unless another edge meets them).
+    Geometry geometry;
+    std::vector<DirectedEdge> edges; ///< when not whole: the other edges the tile owns
     std::vector<Problem> problems;   ///< feature_id: the engine id
 };
 

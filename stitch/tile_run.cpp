@@ -17,19 +17,12 @@ namespace {
 
 using tiling::Box;
 
-void directed_edges(const Geometry& g, std::vector<DirectedEdge>& out)
+void ring_edges(const Polygon& p, std::vector<DirectedEdge>& out)
 {
     out.clear();
-    for (const Polygon& p : g.polygons) {
-        for (const Path& r : p.rings) {
-            for (std::size_t i = 0; i + 1 < r.size(); ++i) {
-                out.push_back(DirectedEdge{r[i], r[i + 1]});
-            }
-        }
-    }
-    for (const Path& l : g.lines) {
-        for (std::size_t i = 0; i + 1 < l.size(); ++i) {
-            out.push_back(DirectedEdge{l[i], l[i + 1]});
+    for (const Path& r : p.rings) {
+        for (std::size_t i = 0; i + 1 < r.size(); ++i) {
+            out.push_back(DirectedEdge{r[i], r[i + 1]});
         }
     }
 }
@@ -71,6 +64,7 @@ public:
 private:
     bool mine(std::size_t leaf) const { return m_groups.of_leaf[leaf] == m_group; }
     bool owns(const DirectedEdge& e) const;
+    bool in_a_core(const Polygon& poly) const;
     void seam_edge(std::uint64_t rank, const DirectedEdge& e, bool owned);
 
     const TileLayout& m_layout;
@@ -117,25 +111,68 @@ void ResultBuilder::seam_edge(std::uint64_t rank, const DirectedEdge& e, bool ow
     m_seams.push_back(std::move(s));
 }
 
+// A polygon of the tile's output is finished when it lies inside the core of one of the
+// tile's leaves (so every edge of the feature inside it, and at its vertices, is this tile's
+// to decide) and the tile owns every edge of it: it goes to the stitch as a polygon, not as
+// edges to trace again. The stitch still traces it again if another edge meets one of its
+// vertices (assemble_polygons' `finished`).
+bool ResultBuilder::in_a_core(const Polygon& poly) const
+{
+    Box b;
+    for (const Coord& c : poly.rings.front()) {
+        b.add(c.x, c.y);
+    }
+    const std::size_t leaf = m_layout.plan.leaf_of(b.xmin, b.ymin);
+    return mine(leaf) && inside_region(m_layout.plan.core(leaf), b);
+}
+
 void ResultBuilder::add_feature(std::uint64_t rank, bool intact, const FeatureOutput& fo)
 {
     Piece piece;
     piece.rank = rank;
     piece.displacement = fo.max_displacement;
     piece.has_z = fo.geometry.has_z;
-    directed_edges(fo.geometry, m_edges);
-    for (const DirectedEdge& e : m_edges) {
-        const bool owned = owns(e);
-        if (owned) {
-            piece.edges.push_back(e);
+    piece.geometry.has_z = fo.geometry.has_z;
+    std::size_t total = 0;
+    std::size_t owned = 0;
+    auto add_edges = [&](bool may_finish) {
+        const std::size_t before = piece.edges.size();
+        for (const DirectedEdge& e : m_edges) {
+            const bool mine = owns(e);
+            if (mine) {
+                piece.edges.push_back(e);
+            }
+            seam_edge(rank, e, mine);
         }
-        seam_edge(rank, e, owned);
+        const std::size_t added = piece.edges.size() - before;
+        total += m_edges.size();
+        owned += added;
+        const bool finished = may_finish && added == m_edges.size() && added > 0;
+        if (finished) {
+            piece.edges.resize(before);
+        }
+        return finished;
+    };
+    for (const Polygon& poly : fo.geometry.polygons) {
+        ring_edges(poly, m_edges);
+        if (add_edges(in_a_core(poly))) {
+            piece.geometry.polygons.push_back(poly);
+        }
     }
-    m_owned += piece.edges.size();
-    if (intact && !m_edges.empty() && piece.edges.size() == m_edges.size()) {
+    for (const Path& l : fo.geometry.lines) {
+        m_edges.clear();
+        for (std::size_t i = 0; i + 1 < l.size(); ++i) {
+            m_edges.push_back(DirectedEdge{l[i], l[i + 1]});
+        }
+        add_edges(false);
+    }
+    m_owned += owned;
+    if (intact && total > 0 && owned == total) {
         piece.whole = true;
         piece.edges.clear();
         piece.geometry = fo.geometry;
+    } else if (!piece.geometry.polygons.empty()) {
+        piece.geometry.type = piece.geometry.polygons.size() == 1 ? Geometry::Type::Polygon : Geometry::Type::MultiPolygon;
     }
     m_pieces.push_back(std::move(piece));
 }
@@ -154,7 +191,10 @@ void ResultBuilder::add_problem(std::size_t position, const Problem& p)
     ++m_problems;
 }
 
-bool worth_keeping(const Piece& p) { return p.whole || !p.edges.empty() || p.displacement > 0 || !p.problems.empty(); }
+bool worth_keeping(const Piece& p)
+{
+    return p.whole || !p.edges.empty() || !p.geometry.polygons.empty() || p.displacement > 0 || !p.problems.empty();
+}
 
 } // namespace
 

@@ -33,7 +33,13 @@ struct DirectedEdge {
 /// Rings from the boundary edges of one polygonal feature. Repeated edges are kept once and
 /// zero-length edges dropped; loops that close with fewer than three vertices and holes that no
 /// shell holds (impossible for a planar subdivision) are dropped.
-Geometry assemble_polygons(std::vector<DirectedEdge> edges, bool has_z);
+/// `finished`: polygons of the same feature traced already (by this function: closed,
+/// canonical) from a subset of its edges that holds every edge of the feature lying inside
+/// them; their edges are not in `edges`. One that shares no vertex (x, y) with `edges` or with
+/// another finished polygon joins the output as it is, one that does is traced again with
+/// `edges`: the output is the one all the edges together give (the stitch's tiles hand in the
+/// polygons inside their cores this way).
+Geometry assemble_polygons(std::vector<DirectedEdge> edges, bool has_z, std::vector<Polygon> finished = {});
 
 /// Paths from the edges of one line feature. `part_starts`: where each input part begins (the
 /// caller rounds them as it rounds the edges).

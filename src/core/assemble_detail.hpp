@@ -26,17 +26,38 @@ struct EdgeKeyLess {
 
 inline bool edge_key_equal(const DirectedEdge& l, const DirectedEdge& r) { return edge_key(l) == edge_key(r); }
 
-/// Open rings (starting at their smallest vertex) closed; holes and parts sorted by first vertex.
+/// A total order on rings: point by point (x, then y), a prefix first. Rings start at their
+/// smallest vertex, so two rings of one output compare by that vertex unless they share it.
+inline bool ring_less(const Path& a, const Path& b)
+{
+    return std::lexicographical_compare(a.begin(), a.end(), b.begin(), b.end(), xy_less);
+}
+
+/// A total order on polygons: ring by ring. Being total, it sorts the same polygons to the
+/// same order whatever order they come in (the tiled path adds finished polygons to traced ones).
+inline bool polygon_less(const Polygon& a, const Polygon& b)
+{
+    return std::lexicographical_compare(a.rings.begin(), a.rings.end(), b.rings.begin(), b.rings.end(), ring_less);
+}
+
+/// Holes sorted (the shell stays first); then the polygons sorted.
+inline void sort_canonical(std::vector<Polygon>& polygons)
+{
+    for (Polygon& p : polygons) {
+        std::sort(p.rings.begin() + 1, p.rings.end(), ring_less);
+    }
+    std::sort(polygons.begin(), polygons.end(), polygon_less);
+}
+
+/// Open rings (starting at their smallest vertex) closed; holes and parts sorted.
 inline void close_and_sort(Geometry& g)
 {
     for (Polygon& p : g.polygons) {
         for (Path& ring : p.rings) {
             ring.push_back(ring.front());
         }
-        std::sort(p.rings.begin() + 1, p.rings.end(), [](const Path& a, const Path& b) { return xy_less(a[0], b[0]); });
     }
-    std::sort(g.polygons.begin(), g.polygons.end(),
-              [](const Polygon& a, const Polygon& b) { return xy_less(a.rings[0][0], b.rings[0][0]); });
+    sort_canonical(g.polygons);
 }
 
 } // namespace trisnap::detail

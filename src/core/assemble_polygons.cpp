@@ -107,7 +107,7 @@ bool in_interior_sector(const Coord& prev, const Coord& u, const Coord& next, co
 class PolygonAssembler {
 public:
     PolygonAssembler(std::vector<DirectedEdge> edges, bool has_z);
-    Geometry run();
+    Geometry run(std::vector<Polygon> finished);
 
 private:
     void index_vertices();
@@ -292,7 +292,7 @@ std::size_t PolygonAssembler::holder_of(const Loop& hole)
     return best;
 }
 
-Geometry PolygonAssembler::run()
+Geometry PolygonAssembler::run(std::vector<Polygon> finished)
 {
     Geometry g;
     g.has_z = m_has_z;
@@ -320,16 +320,82 @@ Geometry PolygonAssembler::run()
         }
     }
     detail::close_and_sort(g);
+    if (!finished.empty()) {
+        g.polygons.insert(g.polygons.end(), std::make_move_iterator(finished.begin()), std::make_move_iterator(finished.end()));
+        std::sort(g.polygons.begin(), g.polygons.end(), detail::polygon_less);
+    }
     g.type = g.polygons.empty() ? Geometry::Type::Empty
            : g.polygons.size() == 1 ? Geometry::Type::Polygon : Geometry::Type::MultiPolygon;
     return g;
 }
 
+// A finished polygon that shares a vertex (x and y) with an edge or with another finished
+// polygon is not a component of its own: its ring edges go back to `edges`, to be traced with
+// the rest. Finished polygons that stay share no vertex with anything else, so tracing them
+// again would give them back unchanged (their rings are loops of their own, and no traced
+// loop lies between one of their holes and their shell: the feature's parts do not overlap).
+void take_back_touching(std::vector<DirectedEdge>& edges, std::vector<Polygon>& finished)
+{
+    struct At {
+        double x, y;
+        std::uint32_t polygon;
+    };
+    std::vector<At> at;
+    for (std::size_t k = 0; k < finished.size(); ++k) {
+        for (const Path& r : finished[k].rings) {
+            for (std::size_t i = 0; i + 1 < r.size(); ++i) {
+                at.push_back(At{r[i].x, r[i].y, static_cast<std::uint32_t>(k)});
+            }
+        }
+    }
+    const auto xy = [](const At& a, const At& b) { return a.x != b.x ? a.x < b.x : a.y < b.y; };
+    std::sort(at.begin(), at.end(), [&](const At& a, const At& b) { return xy(a, b) || (!xy(b, a) && a.polygon < b.polygon); });
+    std::vector<bool> back(finished.size(), false);
+    for (std::size_t i = 0, j = 0; i < at.size(); i = j) {
+        for (j = i + 1; j < at.size() && !xy(at[i], at[j]); ++j) {
+        }
+        if (at[i].polygon != at[j - 1].polygon) {
+            for (std::size_t q = i; q < j; ++q) {
+                back[at[q].polygon] = true;
+            }
+        }
+    }
+    const auto touch = [&](const Coord& c) {
+        const At key{c.x, c.y, 0};
+        for (auto it = std::lower_bound(at.begin(), at.end(), key, xy); it != at.end() && !xy(key, *it); ++it) {
+            back[it->polygon] = true;
+        }
+    };
+    for (const DirectedEdge& e : edges) {
+        touch(e.a);
+        touch(e.b);
+    }
+    std::size_t kept = 0;
+    for (std::size_t k = 0; k < finished.size(); ++k) {
+        if (!back[k]) {
+            if (kept != k) {
+                finished[kept] = std::move(finished[k]);
+            }
+            ++kept;
+            continue;
+        }
+        for (const Path& r : finished[k].rings) {
+            for (std::size_t i = 0; i + 1 < r.size(); ++i) {
+                edges.push_back(DirectedEdge{r[i], r[i + 1]});
+            }
+        }
+    }
+    finished.resize(kept);
+}
+
 } // namespace
 
-Geometry assemble_polygons(std::vector<DirectedEdge> edges, bool has_z)
+Geometry assemble_polygons(std::vector<DirectedEdge> edges, bool has_z, std::vector<Polygon> finished)
 {
-    return PolygonAssembler(std::move(edges), has_z).run();
+    if (!finished.empty()) {
+        take_back_touching(edges, finished);
+    }
+    return PolygonAssembler(std::move(edges), has_z).run(std::move(finished));
 }
 
 } // namespace trisnap

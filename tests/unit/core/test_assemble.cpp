@@ -4,6 +4,7 @@
 #include "snap_harness.hpp"
 
 #include "core/assemble.hpp"
+#include "core/assemble_detail.hpp"
 #include "core/predicates.hpp"
 #include "core/wkt.hpp"
 
@@ -181,6 +182,117 @@ TEST(Predicates, DirectionOrderIsCounterClockwiseFromEast)
 }
 
 // The engine's output, cut into its directed ring edges and shuffled, assembles to itself.
+// Edges of the polygons' rings (closed paths).
+std::vector<DirectedEdge> edges_of(const std::vector<Polygon>& polygons)
+{
+    std::vector<DirectedEdge> edges;
+    for (const Polygon& p : polygons) {
+        for (const Path& ring : p.rings) {
+            for (std::size_t i = 0; i + 1 < ring.size(); ++i) {
+                edges.push_back(DirectedEdge{ring[i], ring[i + 1]});
+            }
+        }
+    }
+    return edges;
+}
+
+// The boundary of a union of unit cells (an edge between two filled cells cancels): shells,
+// holes, and many points where parts or a hole and its shell touch.
+std::vector<DirectedEdge> cell_union(std::mt19937& rng, int n, double fill)
+{
+    std::bernoulli_distribution filled(fill);
+    std::vector<std::vector<bool>> on(static_cast<std::size_t>(n), std::vector<bool>(static_cast<std::size_t>(n)));
+    for (auto& row : on) {
+        for (std::size_t j = 0; j < row.size(); ++j) {
+            row[j] = filled(rng);
+        }
+    }
+    auto at = [&](int i, int j) { return i >= 0 && j >= 0 && i < n && j < n && on[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)]; };
+    std::vector<DirectedEdge> e;
+    for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j) {
+            if (!at(i, j)) {
+                continue;
+            }
+            const double x = i, y = j;
+            if (!at(i, j - 1)) e.push_back({{x, y}, {x + 1, y}});
+            if (!at(i + 1, j)) e.push_back({{x + 1, y}, {x + 1, y + 1}});
+            if (!at(i, j + 1)) e.push_back({{x + 1, y + 1}, {x, y + 1}});
+            if (!at(i - 1, j)) e.push_back({{x, y + 1}, {x, y}});
+        }
+    }
+    return e;
+}
+
+// The stitch hands in the polygons a tile finished with the edges of the rest: the output is
+// the one all edges give, whichever polygons come finished.
+TEST(Assemble, FinishedPolygonsGiveTheOutputAllTheEdgesGive)
+{
+    std::size_t finished_total = 0;
+    for (unsigned seed = 0; seed < 30; ++seed) {
+        std::mt19937 rng(seed);
+        const std::vector<DirectedEdge> all = cell_union(rng, 14, 0.55);
+        const Geometry full = assemble_polygons(all, false);
+        ASSERT_FALSE(full.polygons.empty()) << "seed " << seed;
+        std::bernoulli_distribution pick(0.5);
+        std::vector<Polygon> finished;
+        std::vector<Polygon> rest;
+        for (const Polygon& p : full.polygons) {
+            (pick(rng) ? finished : rest).push_back(p);
+        }
+        finished_total += finished.size();
+        std::shuffle(finished.begin(), finished.end(), rng);
+        std::vector<DirectedEdge> edges = edges_of(rest);
+        std::shuffle(edges.begin(), edges.end(), rng);
+        EXPECT_EQ(wkt_of(assemble_polygons(std::move(edges), false, std::move(finished))), wkt_of(full)) << "seed " << seed;
+    }
+    EXPECT_GT(finished_total, 100u);
+}
+
+// Polygons whose rings start at the same vertex are ordered by their next vertices: the
+// canonical order is total, so it does not depend on the order the polygons come in (the stitch
+// sorts traced and finished polygons together). A part touching a finished one is traced with it.
+TEST(Assemble, PartsStartingAtOneVertexKeepOneOrder)
+{
+    const std::vector<Coord> upper = {{0, 0}, {5, 1}, {5, 3}};
+    const std::vector<Coord> lower = {{0, 0}, {5, -3}, {5, -1}};
+    std::vector<DirectedEdge> all;
+    add_ring(all, upper);
+    add_ring(all, lower);
+    const Geometry full = assemble_polygons(all, false);
+    ASSERT_EQ(full.polygons.size(), 2u);
+    const std::string expected = "MULTIPOLYGON (((0 0, 5 -3, 5 -1, 0 0)), ((0 0, 5 1, 5 3, 0 0)))";
+    EXPECT_EQ(wkt_of(full), expected);
+    for (int k = 0; k < 2; ++k) {
+        std::vector<Polygon> swapped = {full.polygons[1], full.polygons[0]};
+        if (k == 1) {
+            std::swap(swapped[0], swapped[1]);
+        }
+        detail::sort_canonical(swapped);
+        EXPECT_EQ(wkt_of(Geometry{Geometry::Type::MultiPolygon, swapped, {}, false}), expected) << k;
+        std::vector<Polygon> finished = {full.polygons[static_cast<std::size_t>(k)]};
+        EXPECT_EQ(wkt_of(assemble_polygons(edges_of({full.polygons[static_cast<std::size_t>(1 - k)]}), false, finished)),
+                  expected)
+            << k;
+    }
+}
+
+// A hole among the edges that touches a finished shell at one of its vertices belongs to it:
+// the shell is traced again with the edges (left as it came, the hole would have no shell).
+TEST(Assemble, AFinishedShellThatAnEdgeMeetsIsTracedAgain)
+{
+    std::vector<DirectedEdge> shell;
+    add_ring(shell, square(0, 0, 10));
+    std::vector<DirectedEdge> hole;
+    add_ring(hole, {{10, 10}, {5, 6}, {6, 5}}, true);
+    std::vector<DirectedEdge> all = shell;
+    all.insert(all.end(), hole.begin(), hole.end());
+    const std::string expected = "POLYGON ((0 0, 10 0, 10 10, 0 10, 0 0), (5 6, 10 10, 6 5, 5 6))";
+    ASSERT_EQ(assembled(all), expected);
+    const Geometry square_alone = assemble_polygons(shell, false);
+    EXPECT_EQ(wkt_of(assemble_polygons(hole, false, square_alone.polygons)), expected);
+}
+
 TEST(Assemble, EngineOutputReassemblesToItself)
 {
     std::istringstream text("1;POLYGON((0 0,10 0,10 10,0 10,0 0),(2 2,4 2,4 4,2 4,2 2))\n"

@@ -129,9 +129,8 @@ std::size_t same_piece(const stitch::Piece& a, const stitch::Piece& b)
     EXPECT_EQ(a.whole, b.whole);
     EXPECT_EQ(a.has_z, b.has_z);
     std::size_t compared = same_problems(a.problems, b.problems);
-    if (a.whole) {
-        compared += same_geometry(a.geometry, b.geometry);
-    } else {
+    compared += same_geometry(a.geometry, b.geometry);
+    if (!a.whole) {
         compared += same_edges(a.edges, b.edges, a.has_z);
     }
     return compared;
@@ -160,6 +159,11 @@ TEST(TileResultRecords, PiecesRoundTripBitForBit)
         }
         compared = same_piece(cut, round_trip(cut, stitch::put_piece, stitch::get_piece));
         EXPECT_EQ(compared, 8u);
+        // with finished polygons after the edges
+        cut.geometry = awkward_geometry(true);
+        cut.geometry.has_z = has_z;
+        compared = same_piece(cut, round_trip(cut, stitch::put_piece, stitch::get_piece));
+        EXPECT_GT(compared, 8u);
     }
 }
 
@@ -195,6 +199,14 @@ TEST(TileResultRecords, FilesOfARealRunDecodeAndEncodeToTheSameBytes)
             }
         }
     }
+    Feature islands; // one feature over every tile: its islands are finished in their tiles
+    islands.id = 1000;
+    islands.geometry.type = Geometry::Type::MultiPolygon;
+    for (int i = 0; i < 12; ++i) {
+        const double x = 0.3 + i, y = 0.4 + (i * 7) % 12;
+        islands.geometry.polygons.push_back(Polygon{{{{x, y}, {x + 0.2, y}, {x + 0.2, y + 0.2}, {x, y + 0.2}, {x, y}}}});
+    }
+    input.push_back(islands);
     auto store = tiling::make_memory_store();
     const stitch::SpoolMeta meta = spool_features(*store, input, t, 100000, 1 << 10);
     stitch::TilingOptions tiling;
@@ -203,7 +215,7 @@ TEST(TileResultRecords, FilesOfARealRunDecodeAndEncodeToTheSameBytes)
     stitch::TiledRun run(*store, options_at(t), tiling, stitch::ScheduleOptions{});
     run.plan(meta);
     run.snap();
-    std::size_t reports = 0, whole = 0, cut = 0, with_z = 0, seams = 0;
+    std::size_t reports = 0, whole = 0, cut = 0, finished = 0, with_z = 0, seams = 0;
     for (std::size_t g : run.groups().live(run.layout())) {
         for (const std::string& name : {stitch::files::result(g), stitch::files::seams(g)}) {
             const auto file = store->open(name);
@@ -224,6 +236,7 @@ TEST(TileResultRecords, FilesOfARealRunDecodeAndEncodeToTheSameBytes)
                     const stitch::Piece p = stitch::get_piece(r);
                     stitch::put_piece(w, p);
                     ++(p.whole ? whole : cut);
+                    finished += p.whole ? 0 : p.geometry.polygons.size();
                     with_z += p.has_z ? 1 : 0;
                 }
                 first = false;
@@ -235,6 +248,7 @@ TEST(TileResultRecords, FilesOfARealRunDecodeAndEncodeToTheSameBytes)
     EXPECT_GT(reports, 4u);
     EXPECT_GT(whole, 0u);
     EXPECT_GT(cut, 0u);
+    EXPECT_GT(finished, 0u);
     EXPECT_GT(with_z, 0u);
     EXPECT_GT(seams, 0u);
 }

@@ -231,8 +231,8 @@ SpoolMeta FeatureSpool::finish()
     return m.meta;
 }
 
-SpooledFeatures::SpooledFeatures(const tiling::WorkStore& store)
-    : m_file(store.open(files::features)), m_reader(*m_file)
+SpooledFeatures::SpooledFeatures(const tiling::WorkStore& store, bool outline)
+    : m_file(store.open(files::features)), m_reader(*m_file), m_outline(outline)
 {
 }
 
@@ -242,7 +242,7 @@ bool SpooledFeatures::next(detail::CleanFeature& f, bool& has_z)
         return false;
     }
     tiling::ByteReader r(m_record, "feature");
-    f = tiling::get_clean_feature(r, has_z);
+    f = tiling::get_clean_feature(r, has_z, m_outline);
     return true;
 }
 

@@ -68,7 +68,9 @@ inline std::int64_t engine_id(const SpoolMeta& meta, const detail::CleanFeature&
 /// Reads features.bin in order, or one feature by its position in it.
 class SpooledFeatures {
 public:
-    explicit SpooledFeatures(const tiling::WorkStore& store);
+    /// `outline`: features come as tiling::get_clean_feature's outlines (the stitch needs only
+    /// their counts, flags and first points).
+    explicit SpooledFeatures(const tiling::WorkStore& store, bool outline = false);
     /// The next feature in input order; false at the end.
     bool next(detail::CleanFeature& f, bool& has_z);
 
@@ -76,6 +78,7 @@ private:
     std::unique_ptr<tiling::InFile> m_file;
     tiling::RecordReader m_reader;
     std::string m_record;
+    bool m_outline;
 };
 
 /// Random access to spooled features by their rank in features.bin.

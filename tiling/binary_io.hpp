@@ -74,6 +74,12 @@ public:
         need(static_cast<std::size_t>(n) * item_bytes);
         return n;
     }
+    /// Skips n bytes that must be there.
+    void skip(std::size_t n)
+    {
+        need(n);
+        m_pos += n;
+    }
     bool done() const { return m_pos == m_in.size(); }
     std::size_t position() const { return m_pos; }
 

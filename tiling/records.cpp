@@ -31,6 +31,23 @@ std::vector<Coord> get_path(ByteReader& r, bool has_z)
     return path;
 }
 
+// A path's first point only (the rest skipped): what the stitch needs of a spooled feature.
+std::vector<Coord> get_path_head(ByteReader& r, bool has_z)
+{
+    const std::size_t bytes = has_z ? k_xy + sizeof(double) : k_xy;
+    const std::uint32_t n = r.get_count(bytes);
+    std::vector<Coord> path;
+    if (n > 0) {
+        Coord c;
+        c.x = r.get<double>();
+        c.y = r.get<double>();
+        c.z = has_z ? r.get<double>() : std::nan("");
+        path.push_back(c);
+        r.skip((n - 1) * bytes);
+    }
+    return path;
+}
+
 } // namespace
 
 // Z is stored only for geometries that have it; without, every z reads back as NaN (as the
@@ -94,8 +111,9 @@ void put_clean_feature(ByteWriter& w, const detail::CleanFeature& f, bool has_z)
     }
 }
 
-detail::CleanFeature get_clean_feature(ByteReader& r, bool& has_z)
+detail::CleanFeature get_clean_feature(ByteReader& r, bool& has_z, bool outline)
 {
+    const auto path = outline ? get_path_head : get_path;
     detail::CleanFeature f;
     f.index = r.get<std::uint64_t>();
     f.id = r.get<std::int64_t>();
@@ -109,11 +127,11 @@ detail::CleanFeature get_clean_feature(ByteReader& r, bool& has_z)
     for (detail::CleanRing& ring : f.rings) {
         ring.polygon = r.get<std::uint32_t>();
         ring.hole = r.get<std::uint8_t>() != 0;
-        ring.points = get_path(r, has_z);
+        ring.points = path(r, has_z);
     }
     f.lines.resize(r.get_count(sizeof(std::uint32_t)));
     for (auto& line : f.lines) {
-        line = get_path(r, has_z);
+        line = path(r, has_z);
     }
     return f;
 }

@@ -17,9 +17,10 @@ namespace trisnap::tiling {
 void put_geometry(ByteWriter& w, const Geometry& g);
 Geometry get_geometry(ByteReader& r);
 
-/// A cleaned feature; `index` carries its input position (seq), `has_z` its Z flag.
+/// A cleaned feature; `index` carries its input position (seq), `has_z` its Z flag. `outline`:
+/// every ring and line read back as its first point only (counts and flags complete).
 void put_clean_feature(ByteWriter& w, const detail::CleanFeature& f, bool has_z);
-detail::CleanFeature get_clean_feature(ByteReader& r, bool& has_z);
+detail::CleanFeature get_clean_feature(ByteReader& r, bool& has_z, bool outline = false);
 
 /// One feature given to a tile: its rank in features.bin (input order), engine id and whether
 /// it came whole.

@@ -84,6 +84,21 @@ TEST(Records, CleanFeaturesRoundTripWithAndWithoutZ)
                 [&](tiling::ByteReader& r) { return tiling::get_clean_feature(r, back_z); });
             EXPECT_EQ(back_z, has_z);
             EXPECT_EQ(same_clean_feature(cf, back, has_z), polygonal ? 15u : 12u) << "polygonal " << polygonal;
+            // The stitch's outline: everything but each path's points after the first.
+            std::string bytes;
+            tiling::ByteWriter w(bytes);
+            tiling::put_clean_feature(w, cf, has_z);
+            tiling::ByteReader r(bytes, "test");
+            detail::CleanFeature outline = tiling::get_clean_feature(r, back_z, true);
+            EXPECT_TRUE(r.done());
+            detail::CleanFeature heads = cf;
+            for (detail::CleanRing& ring : heads.rings) {
+                ring.points.resize(1);
+            }
+            for (auto& line : heads.lines) {
+                line.resize(1);
+            }
+            EXPECT_EQ(same_clean_feature(heads, outline, has_z), cf.rings.size() + cf.lines.size()) << "polygonal " << polygonal;
         }
     }
 }

@@ -15,6 +15,8 @@
 #include <algorithm>
 #include <limits>
 #include <set>
+#include <string>
+#include <vector>
 
 namespace trisnap {
 namespace {
@@ -150,11 +152,62 @@ void Writer::feature(std::uint32_t k, std::size_t seq, const RecordEntry& e, OGR
     write(k, e.fid, *f, to_ogr(m_item.output.geometry, static_cast<OGRwkbGeometryType>(e.type)));
 }
 
+/// While a layer is read again for its attributes only (no feature of it passes through with
+/// its own geometry), the driver is told to leave the geometries out too: GeoPackage then does
+/// not fetch or decode them. The fields --select left out stay left out. Not with a spatial
+/// filter (--bbox: the driver tests the geometries), nor for OSM (layers read interleaved).
+class GeometriesLeftOut {
+public:
+    GeometriesLeftOut(Plan& plan, OGRLayer& layer, bool needed) : m_layer(layer)
+    {
+        if (needed || m_layer.GetSpatialFilter() != nullptr || std::string(plan.dataset->GetDriverName()) == "OSM") {
+            return;
+        }
+        const OGRFeatureDefn* defn = m_layer.GetLayerDefn();
+        for (int i = 0; i < defn->GetFieldCount(); ++i) {
+            if (defn->GetFieldDefn(i)->IsIgnored()) {
+                m_kept.emplace_back(defn->GetFieldDefn(i)->GetNameRef());
+            }
+        }
+        if (defn->IsStyleIgnored()) {
+            m_kept.emplace_back("OGR_STYLE");
+        }
+        m_active = set({"OGR_GEOMETRY"});
+    }
+    ~GeometriesLeftOut()
+    {
+        if (m_active) {
+            set({});
+        }
+    }
+    GeometriesLeftOut(const GeometriesLeftOut&) = delete;
+    GeometriesLeftOut& operator=(const GeometriesLeftOut&) = delete;
+
+private:
+    bool set(std::vector<std::string> extra)
+    {
+        std::vector<const char*> names;
+        for (const std::vector<std::string>* list : {&m_kept, &extra}) {
+            for (const std::string& n : *list) {
+                names.push_back(n.c_str());
+            }
+        }
+        names.push_back(nullptr);
+        return m_layer.SetIgnoredFields(names.data()) == OGRERR_NONE;
+    }
+
+    OGRLayer& m_layer;
+    std::vector<std::string> m_kept; ///< fields left out before (--select)
+    bool m_active = false;
+};
+
 /// Input layer `k` read again, in step with its `count` entries of records.bin; `seq` is the
 /// input position of its first feature, and the position after its last is returned.
-std::size_t write_features(Plan& plan, std::uint32_t k, std::size_t count, std::size_t seq, RecordLog& log,
+std::size_t write_features(Plan& plan, std::uint32_t k, const LayerCounts& counts, std::size_t seq, RecordLog& log,
                            Writer& w, Progress& progress, const InterruptGuard& interrupt)
 {
+    const std::size_t count = counts.input;
+    const GeometriesLeftOut left_out(plan, *plan.layers[k], counts.input != counts.rejected + counts.snapped);
     LayerReader reader(*plan.dataset, *plan.layers[k], plan.layers);
     RecordEntry e;
     for (std::size_t i = 0; i < count; ++i, ++seq) {
@@ -188,7 +241,7 @@ void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerge
     progress.start("write", static_cast<std::int64_t>(result.input), "features written");
     std::size_t seq = 0;
     for (std::size_t k = 0; k < plan.layers.size(); ++k) {
-        seq = write_features(plan, static_cast<std::uint32_t>(k), result.layers[k].input, seq, log, w, progress, interrupt);
+        seq = write_features(plan, static_cast<std::uint32_t>(k), result.layers[k], seq, log, w, progress, interrupt);
     }
     progress.finish(static_cast<std::int64_t>(w.written()));
     interrupt.check();

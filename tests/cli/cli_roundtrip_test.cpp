@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 
 namespace trisnap::test {
@@ -87,6 +88,13 @@ TEST_P(RoundTrip, FieldsValidityAccountingAndBytes)
     EXPECT_NE(r.out.find("8 features in"), std::string::npos) << r.out;
     const auto output = read_layer(out);
     check_round_trip(read_layer(in, "parcels"), output, read_json(report));
+    const auto point = std::find_if(output.begin(), output.end(), [](const ReadFeature& f) {
+        return f.fields.count("name") && f.fields.at("name") == "point";
+    });
+    if (std::string(format.ext) != "shp") { // a Shapefile of polygons refuses the point (reported)
+        ASSERT_NE(point, output.end());
+        EXPECT_EQ(point->wkt, "POINT (5 5)") << "a point passes through with its geometry";
+    }
     EXPECT_TRUE(same_crs(in, out, "parcels"));
     if (format.keeps_layer_name) {
         GDALDatasetUniquePtr ds(GDALDataset::Open(out.c_str(), GDAL_OF_VECTOR));
@@ -103,6 +111,25 @@ INSTANTIATE_TEST_SUITE_P(Formats, RoundTrip,
                          ::testing::Values(Format{"gpkg", true, {"gpkg"}}, Format{"shp", false, {"shp", "shx", "dbf", "prj"}},
                                            Format{"fgb", true, {"fgb"}}, Format{"geojson", true, {"geojson"}}),
                          [](const auto& info) { return std::string(info.param.ext); });
+
+// Every feature snapped: the write phase reads the input again without its geometries (none
+// passes through); every attribute still comes back.
+TEST(RoundTripOptions, AttributesWhenEveryFeatureIsSnapped)
+{
+    TempDir dir;
+    const std::string in = dir.path("in.gpkg");
+    write_fixture(in, "GPKG", "parcels", 3857, wkbUnknown, snapping_fixture());
+    const std::string out = dir.path("out.gpkg");
+    const std::string report = dir.path("report.json");
+    const RunOutput r = run_trisnap(dir, {"snap", in, out, "--tolerance", "0.01", "--report", report, "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto output = read_layer(out);
+    ASSERT_FALSE(output.empty());
+    check_round_trip(read_layer(in, "parcels"), output, read_json(report));
+    for (const ReadFeature& f : output) {
+        EXPECT_NE(f.wkt.find("POLYGON ("), std::string::npos) << f.wkt;
+    }
+}
 
 TEST(RoundTripOptions, NewLayerNameAndFormatFlag)
 {

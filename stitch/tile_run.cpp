@@ -1,5 +1,6 @@
 #include "stitch/tile_run.hpp"
 
+#include "core/assemble.hpp"
 #include "tiling/tile_input.hpp"
 
 #include <algorithm>
@@ -16,16 +17,6 @@ namespace trisnap::stitch {
 namespace {
 
 using tiling::Box;
-
-void ring_edges(const Polygon& p, std::vector<DirectedEdge>& out)
-{
-    out.clear();
-    for (const Path& r : p.rings) {
-        for (std::size_t i = 0; i + 1 < r.size(); ++i) {
-            out.push_back(DirectedEdge{r[i], r[i + 1]});
-        }
-    }
-}
 
 Box edge_box(const DirectedEdge& e)
 {
@@ -155,7 +146,8 @@ void ResultBuilder::add_feature(std::uint64_t rank, bool intact, const FeatureOu
         return finished;
     };
     for (const Polygon& poly : fo.geometry.polygons) {
-        ring_edges(poly, m_edges);
+        m_edges.clear();
+        append_ring_edges(poly, m_edges);
         if (add_edges(in_a_core(poly))) {
             piece.geometry.polygons.push_back(poly);
         }

@@ -30,6 +30,9 @@ struct DirectedEdge {
     Coord b;
 };
 
+/// Appends the directed edges of a polygon's closed rings (each ring's consecutive points).
+void append_ring_edges(const Polygon& polygon, std::vector<DirectedEdge>& out);
+
 /// Rings from the boundary edges of one polygonal feature. Repeated edges are kept once and
 /// zero-length edges dropped; loops that close with fewer than three vertices and holes that no
 /// shell holds (impossible for a planar subdivision) are dropped.

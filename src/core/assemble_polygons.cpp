@@ -379,16 +379,21 @@ void take_back_touching(std::vector<DirectedEdge>& edges, std::vector<Polygon>& 
             ++kept;
             continue;
         }
-        for (const Path& r : finished[k].rings) {
-            for (std::size_t i = 0; i + 1 < r.size(); ++i) {
-                edges.push_back(DirectedEdge{r[i], r[i + 1]});
-            }
-        }
+        append_ring_edges(finished[k], edges);
     }
     finished.resize(kept);
 }
 
 } // namespace
+
+void append_ring_edges(const Polygon& polygon, std::vector<DirectedEdge>& out)
+{
+    for (const Path& r : polygon.rings) {
+        for (std::size_t i = 0; i + 1 < r.size(); ++i) {
+            out.push_back(DirectedEdge{r[i], r[i + 1]});
+        }
+    }
+}
 
 Geometry assemble_polygons(std::vector<DirectedEdge> edges, bool has_z, std::vector<Polygon> finished)
 {

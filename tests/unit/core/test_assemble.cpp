@@ -187,11 +187,7 @@ std::vector<DirectedEdge> edges_of(const std::vector<Polygon>& polygons)
 {
     std::vector<DirectedEdge> edges;
     for (const Polygon& p : polygons) {
-        for (const Path& ring : p.rings) {
-            for (std::size_t i = 0; i + 1 < ring.size(); ++i) {
-                edges.push_back(DirectedEdge{ring[i], ring[i + 1]});
-            }
-        }
+        append_ring_edges(p, edges);
     }
     return edges;
 }

@@ -20,8 +20,8 @@ inline auto edge_key(const DirectedEdge& e)
 }
 
 /// Edges by start point, end point, then the bits of their z values: a total, exact order
-/// (edge_key's, compared field by field without building the keys: the sort is the polygon
-/// assembler's largest single cost; 4.9 % of NE land's instructions with it, 7.7 % before).
+/// (edge_key's, compared field by field without building the keys: 0.5 % fewer instructions
+/// on NE land than comparing the tuples).
 struct EdgeKeyLess {
     bool operator()(const DirectedEdge& l, const DirectedEdge& r) const
     {

@@ -76,6 +76,8 @@ public:
     std::size_t intersections() const { return m_intersections; }
     /// Faces the searches have walked so far (a measure of the snapper's work).
     std::size_t faces_walked() const { return m_faces_walked; }
+    /// 64 ulps of the largest coordinate: far above the rounding of any distance the mesh computes.
+    double ulp_margin() const { return m_ulp_margin; }
     /// The work of CGAL's hole fills so far: the sum of the squared degrees of the vertices it
     /// removed (fill_hole_delaunay makes d^2 tests), and how many removals went through rounds of
     /// flips first (core/mesh_hubs.cpp).

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <tuple>
 #include <utility>
 
@@ -11,16 +12,44 @@ namespace trisnap::detail {
 void Snapper::initial_scan(bool every_pair)
 {
     const std::size_t slots = m_mesh.vertex_slots();
+    // One pass over the faces: each face's own events (cases 1 and 3), and which vertices a
+    // search could find anything from. A vertex's search (Mesh::search_point) walks the faces
+    // around it, then crosses an edge of that star only where the edge meets the disk of radius
+    // R = max(t, e) around it; it finds nothing while every edge opposite it in its faces is
+    // farther than R (then so are the star's vertices, the ends of those edges).
+    // Such a vertex, which is most vertices at a tolerance below the layer's detail, has no
+    // event and no merge candidate, and its search is skipped: the same events are queued (their
+    // order is their key's), and the snapper's work counter (faces_visited) no longer counts
+    // those stars. The distances are those the search computes, from the same face in the same
+    // order (and -ffp-contract=off), so they are the search's own; the margin (64 ulps of the
+    // largest coordinate, Mesh::ulp_margin) would keep the skip clear of rounding all the same.
+    // The verifying scan (every_pair) searches from every vertex.
+    std::vector<std::uint8_t> searched(slots, every_pair ? 1 : 0);
+    const double reach = std::sqrt(std::max(m_vt2, m_et2)) + m_mesh.ulp_margin();
+    const double reach2 = reach * reach;
+    for (const cdt::Face_handle f : m_mesh.tri().finite_face_handles()) {
+        check_face(f);
+        if (every_pair) {
+            continue;
+        }
+        const std::array<std::uint32_t, 3> ids{f->vertex(0)->info().id, f->vertex(1)->info().id,
+                                               f->vertex(2)->info().id};
+        for (int i = 0; i < 3; ++i) {
+            const VertexRecord& rv = m_mesh.vertex(ids[i]);
+            const VertexRecord& ra = m_mesh.vertex(ids[cdt::Triangulation::cw(i)]);
+            const VertexRecord& rb = m_mesh.vertex(ids[cdt::Triangulation::ccw(i)]);
+            if (squared_distance_point_segment(rv.x, rv.y, ra.x, ra.y, rb.x, rb.y) <= reach2) {
+                searched[ids[i]] = 1;
+            }
+        }
+    }
     for (std::uint32_t v = 0; v < slots; ++v) {
-        if (alive(v)) {
+        if (searched[v] != 0 && alive(v)) {
             discover_point(v, every_pair);
         }
         if (m_meter && (v & 1023) == 1023) {
             m_meter->advance(v, 2 * slots);
         }
-    }
-    for (const cdt::Face_handle f : m_mesh.tri().finite_face_handles()) {
-        check_face(f);
     }
 }
 

@@ -56,12 +56,33 @@ void grow_reach(const detail::CleanFeature& cf, const Box& feature_box, const Bo
     if (!feature_box.intersects(r0) || r0.contains(feature_box)) {
         return;
     }
-    for_each_edge(cf, [&](const Coord& p, const Coord& q) {
-        if (tiling::segment_meets_box(p, q, r0)) {
-            reach.add(p.x, p.y);
-            reach.add(q.x, q.y);
+    // Path by path: a path whose box misses r0 has no edge meeting it, and one inside r0 adds
+    // all its points (its box); only the others are looked at edge by edge.
+    const auto grow = [&](const std::vector<Coord>& path, bool closed) {
+        const Box b = tiling::box_of(path);
+        if (!b.intersects(r0)) {
+            return;
         }
-    });
+        if (r0.contains(b)) {
+            reach.add(b);
+            return;
+        }
+        const std::size_t n = path.size();
+        for (std::size_t i = 0; i + 1 < n || (closed && i < n); ++i) {
+            const Coord& p = path[i];
+            const Coord& q = path[(i + 1) % n];
+            if (tiling::segment_meets_box(p, q, r0)) {
+                reach.add(p.x, p.y);
+                reach.add(q.x, q.y);
+            }
+        }
+    };
+    for (const auto& ring : cf.rings) {
+        grow(ring.points, true);
+    }
+    for (const auto& line : cf.lines) {
+        grow(line, false);
+    }
 }
 
 namespace {

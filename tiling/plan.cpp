@@ -31,6 +31,17 @@ Box box_of(const Geometry& g)
     return b;
 }
 
+Box box_of(const std::vector<Coord>& path)
+{
+    if (path.empty()) return {};
+    Box b{path[0].x, path[0].y, path[0].x, path[0].y};
+    for (const Coord& c : path) {
+        b.xmin = std::min(b.xmin, c.x), b.xmax = std::max(b.xmax, c.x);
+        b.ymin = std::min(b.ymin, c.y), b.ymax = std::max(b.ymax, c.y);
+    }
+    return b;
+}
+
 Box clip(const Region& r, const Box& e)
 {
     return {std::max(r.xmin, e.xmin), std::max(r.ymin, e.ymin), std::min(r.xmax, e.xmax), std::min(r.ymax, e.ymax)};

@@ -27,6 +27,8 @@ struct Box {
     double height() const { return ymax - ymin; }
 };
 Box box_of(const Geometry& g);
+/// The box of a path's points (empty for no points).
+Box box_of(const std::vector<Coord>& path);
 /// The finite part of a region clipped to `extent` (closed).
 Box clip(const Region& r, const Box& extent);
 

@@ -68,7 +68,7 @@ bool unique_across_runs(tiling::WorkStore& store, std::size_t runs, std::vector<
 
 } // namespace
 
-void SpoolMeta::save(tiling::ByteWriter& w) const
+void SpoolMeta::save(tiling::ByteWriter& w, bool with_sample) const
 {
     w.put(records);
     w.put(spooled);
@@ -79,8 +79,9 @@ void SpoolMeta::save(tiling::ByteWriter& w) const
     }
     w.put<std::uint64_t>(sample.vertices);
     w.put<std::int32_t>(sample.level);
-    w.put<std::uint64_t>(sample.xs.size());
-    for (std::size_t i = 0; i < sample.xs.size(); ++i) {
+    const std::size_t kept = with_sample ? sample.xs.size() : 0;
+    w.put<std::uint64_t>(kept);
+    for (std::size_t i = 0; i < kept; ++i) {
         w.put(sample.xs[i]);
         w.put(sample.ys[i]);
     }
@@ -102,6 +103,11 @@ SpoolMeta SpoolMeta::load(tiling::ByteReader& r)
     m.sample.vertices = r.get<std::uint64_t>();
     m.sample.level = r.get<std::int32_t>();
     const auto n = r.get<std::uint64_t>();
+    if (n > r.remaining() / (2 * sizeof(double))) {
+        throw tiling::record_error("damaged work file: truncated spool meta record");
+    }
+    m.sample.xs.reserve(n);
+    m.sample.ys.reserve(n);
     for (std::uint64_t i = 0; i < n; ++i) {
         m.sample.xs.push_back(r.get<double>());
         m.sample.ys.push_back(r.get<double>());
@@ -226,7 +232,7 @@ SpoolMeta FeatureSpool::finish()
     m.meta.sample = m.sample.take();
     std::string bytes;
     tiling::ByteWriter w(bytes);
-    m.meta.save(w);
+    m.meta.save(w, m.store.on_disk());
     m.store.put(files::spool_meta, bytes);
     return m.meta;
 }

@@ -32,7 +32,9 @@ struct SpoolMeta {
     tiling::PlanInput sample;
     std::uint64_t largest_vertices = 0; ///< the largest feature's engine vertices
     std::int64_t largest_fid = 0;
-    void save(tiling::ByteWriter& w) const;
+    /// Without `sample`, the sample's vertices are left out (its extent and counts stay): what
+    /// is loaded back then cannot be planned from.
+    void save(tiling::ByteWriter& w, bool with_sample = true) const;
     static SpoolMeta load(tiling::ByteReader& r);
 };
 
@@ -51,7 +53,9 @@ public:
     /// as ids whatever the answer, since FIDs may repeat across layers (meta.fids_unique false).
     bool end_layer();
     /// Commits features.bin, features.idx and spool.meta. Without end_layer(), one layer:
-    /// meta.fids_unique says whether its FIDs serve as engine ids.
+    /// meta.fids_unique says whether its FIDs serve as engine ids. spool.meta holds the plan's
+    /// sample only in a store on disk, the one a resumed run or another process reads it from;
+    /// a store in memory ends with the process, and the caller has the returned meta.
     SpoolMeta finish();
 
 private:

@@ -81,6 +81,7 @@ public:
         m_pos += n;
     }
     bool done() const { return m_pos == m_in.size(); }
+    std::size_t remaining() const { return m_in.size() - m_pos; }
     std::size_t position() const { return m_pos; }
 
 private:

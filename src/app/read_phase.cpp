@@ -7,6 +7,7 @@
 #include "io/io_error.hpp"
 #include "io/ogr_geometry.hpp"
 #include "io/reader.hpp"
+#include "stitch/layout.hpp"
 #include "tiling/records.hpp"
 
 #include <cstring>
@@ -61,7 +62,7 @@ void save_read(tiling::WorkStore& store, const ReadSummary& s)
     w.put<std::uint64_t>(s.rejected);
     w.put<std::uint64_t>(s.input_vertices);
     s.problems.save(w);
-    s.meta.save(w);
+    // The meta (with the plan's sample, up to 256 MiB) is spool.meta's: kept once.
     w.put<std::uint64_t>(s.layers.size());
     for (const LayerRead& l : s.layers) {
         for (std::uint64_t v : {l.records, l.rejected, l.input_vertices, l.snapped, l.problems}) {
@@ -210,7 +211,11 @@ bool load_read(tiling::WorkStore& store, std::size_t problem_bytes, ReadSummary&
     out.input_vertices = r.get<std::uint64_t>();
     out.problems = ProblemLog(store, k_read_problems, problem_bytes);
     out.problems.load(r);
-    out.meta = stitch::SpoolMeta::load(r);
+    {
+        const std::string meta = store.get(stitch::files::spool_meta);
+        tiling::ByteReader m(meta, "spool meta");
+        out.meta = stitch::SpoolMeta::load(m);
+    }
     out.layers.resize(r.get<std::uint64_t>());
     for (LayerRead& l : out.layers) {
         for (std::uint64_t* v : {&l.records, &l.rejected, &l.input_vertices, &l.snapped, &l.problems}) {

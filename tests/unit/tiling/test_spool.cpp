@@ -148,6 +148,37 @@ TEST(RecordReader, TheFileSizeIsOnlyAHint)
     }
 }
 
+// spool.meta holds the plan's sample in a store on disk (a resumed run or another process plans
+// from it) and leaves it out in memory, where the caller has it and nothing reads it back; the
+// rest of the meta is kept either way.
+TEST_P(StoreTest, SpoolMetaKeepsThePlansSampleOnlyOnDisk)
+{
+    auto store = make();
+    const auto input = perturbed_grid_coverage(12, 12, 1.0, 0.2, 3, 1, 0.004);
+    const stitch::SpoolMeta meta = spool_features(*store, input, 0.01, 100, 64);
+    ASSERT_GT(meta.sample.level, 0) << "a sampled plan";
+    ASSERT_FALSE(meta.sample.xs.empty());
+    const std::string bytes = store->get(stitch::files::spool_meta);
+    tiling::ByteReader r(bytes, "spool meta");
+    const stitch::SpoolMeta loaded = stitch::SpoolMeta::load(r);
+    EXPECT_TRUE(r.done());
+    EXPECT_EQ(loaded.records, meta.records);
+    EXPECT_EQ(loaded.spooled, meta.spooled);
+    EXPECT_EQ(loaded.vertices, meta.vertices);
+    EXPECT_EQ(loaded.sample.vertices, meta.sample.vertices);
+    EXPECT_EQ(loaded.sample.level, meta.sample.level);
+    EXPECT_EQ(loaded.sample.extent.xmin, meta.sample.extent.xmin);
+    EXPECT_EQ(loaded.sample.extent.ymax, meta.sample.extent.ymax);
+    EXPECT_EQ(loaded.largest_fid, meta.largest_fid);
+    if (GetParam()) {
+        EXPECT_EQ(loaded.sample.xs, meta.sample.xs);
+        EXPECT_EQ(loaded.sample.ys, meta.sample.ys);
+    } else {
+        EXPECT_TRUE(loaded.sample.xs.empty());
+        EXPECT_TRUE(loaded.sample.ys.empty());
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(Stores, StoreTest, ::testing::Values(false, true),
                          [](const auto& info) { return info.param ? std::string("Directory") : std::string("Memory"); });
 

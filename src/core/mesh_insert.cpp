@@ -123,6 +123,12 @@ Mesh::Obstacle Mesh::first_obstacle(cdt::Vertex_handle a, cdt::Vertex_handle b) 
         return CGAL::orientation(pa, pb, v->point()) == CGAL::COLLINEAR &&
                CGAL::collinear_are_ordered_along_line(pa, v->point(), pb);
     };
+    // Most edges of an input ring join vertices that are neighbours already: found by handles
+    // alone, before any predicate (no vertex lies on an edge of a triangulation, so none can be
+    // an obstacle between neighbours).
+    if (m_tri.tds().is_edge(a, b)) {
+        return Obstacle{};
+    }
     cdt::Face_handle f;
     int i = 0;
     auto fc = m_tri.incident_faces(a);

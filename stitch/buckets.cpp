@@ -56,15 +56,12 @@ void grow_reach(const detail::CleanFeature& cf, const Box& feature_box, const Bo
     if (!feature_box.intersects(r0) || r0.contains(feature_box)) {
         return;
     }
-    // Path by path: a path whose box misses r0 has no edge meeting it, and one inside r0 adds
-    // all its points (its box); only the others are looked at edge by edge.
+    // Path by path, as for the whole feature above: a path whose box misses r0 has no edge
+    // meeting it, and one inside r0 adds nothing to a reach that starts as r0; only the others
+    // are looked at edge by edge.
     const auto grow = [&](const std::vector<Coord>& path, bool closed) {
         const Box b = tiling::box_of(path);
-        if (!b.intersects(r0)) {
-            return;
-        }
-        if (r0.contains(b)) {
-            reach.add(b);
+        if (!b.intersects(r0) || r0.contains(b)) {
             return;
         }
         const std::size_t n = path.size();

@@ -2,6 +2,7 @@
 // multiples of the size) and the tile input (rings cut and closed outside the tile keep the
 // membership of every point of the tile).
 #include "generators.hpp"
+#include "stitch/spool.hpp"
 #include "tiling/plan.hpp"
 #include "tiling/tile_input.hpp"
 
@@ -160,6 +161,72 @@ TEST(TileInput, CutRingsKeepMembershipInsideTheTile)
             }
         }
         EXPECT_GE(in.features.size(), 1u); // the big square encloses every box
+    }
+}
+
+// A tile's reach grows from r0 by both ends of every edge that meets r0, whatever rings lie
+// wholly inside r0 or outside it (grow_reach skips those by their boxes): against every edge
+// tried one by one, on islands inside, outside and across r0, a spiral and a line.
+TEST(TileInput, ReachGrowsByTheEndsOfEveryEdgeMeetingR0)
+{
+    std::vector<Feature> features(2);
+    std::vector<Polygon> islands;
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> at(-200, 200);
+    std::uniform_real_distribution<double> size(1, 30);
+    for (int k = 0; k < 60; ++k) {
+        const double x = at(rng), y = at(rng), w = size(rng), h = size(rng);
+        islands.push_back(Polygon{{{{x, y}, {x + w, y}, {x + w, y + h}, {x + 0.3 * w, y + 1.4 * h}, {x, y + h}, {x, y}}}});
+    }
+    Path spiral;
+    for (int i = 0; i <= 300; ++i) {
+        const double a = 4 * M_PI * i / 300, r = 230 + 10 * a;
+        spiral.push_back({r * std::cos(a), r * std::sin(a)});
+    }
+    for (int i = 300; i >= 0; --i) {
+        const double a = 4 * M_PI * i / 300, r = 234 + 10 * a;
+        spiral.push_back({r * std::cos(a), r * std::sin(a)});
+    }
+    spiral.push_back(spiral.front());
+    islands.push_back(Polygon{{spiral}});
+    features[0].id = 1;
+    features[0].geometry.type = Geometry::Type::MultiPolygon;
+    features[0].geometry.polygons = islands;
+    features[1].id = 2;
+    features[1].geometry.type = Geometry::Type::LineString;
+    features[1].geometry.lines = {{{-250, -40}, {-20, -35}, {10, 5}, {30, 260}, {300, 270}}};
+    std::vector<Problem> problems;
+    const auto clean = detail::clean_input(features, 0.01, problems);
+    ASSERT_EQ(clean.size(), 2u);
+    for (const Box r0 : {Box{-50, -50, 50, 50}, Box{0, 0, 120, 40}, Box{-210, -210, 210, 210}, Box{-300, 200, -200, 300},
+                         Box{150, -20, 400, 20}}) {
+        for (const auto& cf : clean) {
+            Box expected = r0;
+            std::size_t meeting = 0;
+            auto edge = [&](const Coord& p, const Coord& q) {
+                if (tiling::segment_meets_box(p, q, r0)) {
+                    expected.add(p.x, p.y);
+                    expected.add(q.x, q.y);
+                    ++meeting;
+                }
+            };
+            for (const auto& ring : cf.rings) {
+                for (std::size_t i = 0; i < ring.points.size(); ++i) {
+                    edge(ring.points[i], ring.points[(i + 1) % ring.points.size()]);
+                }
+            }
+            for (const auto& line : cf.lines) {
+                for (std::size_t i = 0; i + 1 < line.size(); ++i) {
+                    edge(line[i], line[i + 1]);
+                }
+            }
+            Box reach = r0;
+            stitch::grow_reach(cf, stitch::box_of(cf), r0, reach);
+            EXPECT_EQ(reach.xmin, expected.xmin) << cf.id << " " << meeting;
+            EXPECT_EQ(reach.ymin, expected.ymin) << cf.id;
+            EXPECT_EQ(reach.xmax, expected.xmax) << cf.id;
+            EXPECT_EQ(reach.ymax, expected.ymax) << cf.id;
+        }
     }
 }
 

@@ -18,14 +18,10 @@ Box box_of(const detail::CleanFeature& cf)
 {
     Box b;
     for (const auto& r : cf.rings) {
-        for (const Coord& c : r.points) {
-            b.add(c.x, c.y);
-        }
+        b.add(tiling::box_of(r.points));
     }
     for (const auto& l : cf.lines) {
-        for (const Coord& c : l) {
-            b.add(c.x, c.y);
-        }
+        b.add(tiling::box_of(l));
     }
     return b;
 }

@@ -24,10 +24,8 @@ Box box_of(const Geometry& g)
 {
     Box b;
     for (const Polygon& p : g.polygons)
-        for (const Path& r : p.rings)
-            for (const Coord& c : r) b.add(c.x, c.y);
-    for (const Path& l : g.lines)
-        for (const Coord& c : l) b.add(c.x, c.y);
+        for (const Path& r : p.rings) b.add(box_of(r));
+    for (const Path& l : g.lines) b.add(box_of(l));
     return b;
 }
 

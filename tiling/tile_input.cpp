@@ -56,9 +56,7 @@ public:
         intact = false;
         if (count == 0) {
             if (locate_in_ring(ring, m_c) <= 0) return {};
-            Box b;
-            for (const Coord& c : ring) b.add(c.x, c.y);
-            return {{b.xmin, b.ymin}, {b.xmax, b.ymin}, {b.xmax, b.ymax}, {b.xmin, b.ymax}};
+            return {{rb.xmin, rb.ymin}, {rb.xmax, rb.ymin}, {rb.xmax, rb.ymax}, {rb.xmin, rb.ymax}};
         }
         std::vector<Coord> out;
         // Start at a kept edge; walk once round the ring.

@@ -18,6 +18,23 @@ using tiling::Box;
 
 bool in_region(const Region& r, double x, double y) { return r.contains(x, y); }
 
+// A closed ring 4 wide that winds twice round the origin from radius `inner` outwards, `steps`
+// points along each side.
+Path spiral_band(double inner, int steps)
+{
+    Path ring;
+    for (int i = 0; i <= steps; ++i) {
+        const double a = 4 * M_PI * i / steps, r = inner + 10 * a;
+        ring.push_back({r * std::cos(a), r * std::sin(a)});
+    }
+    for (int i = steps; i >= 0; --i) {
+        const double a = 4 * M_PI * i / steps, r = inner + 4 + 10 * a;
+        ring.push_back({r * std::cos(a), r * std::sin(a)});
+    }
+    ring.push_back(ring.front());
+    return ring;
+}
+
 TEST(TilePlan, EveryPointHasExactlyOneOwnerAndQueriesAgree)
 {
     const auto features = perturbed_grid_coverage(30, 30, 10.0, 0.2, 1);
@@ -124,16 +141,7 @@ bool inside(const Geometry& g, double x, double y)
 TEST(TileInput, CutRingsKeepMembershipInsideTheTile)
 {
     std::vector<Feature> features(3);
-    Path spiral;
-    for (int i = 0; i <= 400; ++i) {
-        const double a = 4 * M_PI * i / 400, r = 30 + 10 * a;
-        spiral.push_back({r * std::cos(a), r * std::sin(a)});
-    }
-    for (int i = 400; i >= 0; --i) {
-        const double a = 4 * M_PI * i / 400, r = 34 + 10 * a;
-        spiral.push_back({r * std::cos(a), r * std::sin(a)});
-    }
-    spiral.push_back(spiral.front());
+    const Path spiral = spiral_band(30, 400);
     features[0].id = 1;
     features[0].geometry.type = Geometry::Type::Polygon;
     features[0].geometry.polygons = {Polygon{{spiral}}};
@@ -172,23 +180,12 @@ TEST(TileInput, ReachGrowsByTheEndsOfEveryEdgeMeetingR0)
     std::vector<Feature> features(2);
     std::vector<Polygon> islands;
     std::mt19937_64 rng(5);
-    std::uniform_real_distribution<double> at(-200, 200);
-    std::uniform_real_distribution<double> size(1, 30);
     for (int k = 0; k < 60; ++k) {
-        const double x = at(rng), y = at(rng), w = size(rng), h = size(rng);
+        const double x = uniform(rng, -200, 200), y = uniform(rng, -200, 200), w = uniform(rng, 1, 30),
+                     h = uniform(rng, 1, 30);
         islands.push_back(Polygon{{{{x, y}, {x + w, y}, {x + w, y + h}, {x + 0.3 * w, y + 1.4 * h}, {x, y + h}, {x, y}}}});
     }
-    Path spiral;
-    for (int i = 0; i <= 300; ++i) {
-        const double a = 4 * M_PI * i / 300, r = 230 + 10 * a;
-        spiral.push_back({r * std::cos(a), r * std::sin(a)});
-    }
-    for (int i = 300; i >= 0; --i) {
-        const double a = 4 * M_PI * i / 300, r = 234 + 10 * a;
-        spiral.push_back({r * std::cos(a), r * std::sin(a)});
-    }
-    spiral.push_back(spiral.front());
-    islands.push_back(Polygon{{spiral}});
+    islands.push_back(Polygon{{spiral_band(230, 300)}});
     features[0].id = 1;
     features[0].geometry.type = Geometry::Type::MultiPolygon;
     features[0].geometry.polygons = islands;

@@ -106,6 +106,13 @@ std::uint32_t Mesh::replace(std::span<const std::uint32_t> olds, double x, doubl
     for (std::uint32_t o : olds) {
         collect_constraints(m_vertices[o].handle, olds);
     }
+    // The constraints go back in by the ids of their other ends, not in the order the stars were
+    // walked: a star starts at whatever face CGAL keeps for the vertex, which depends on the
+    // triangulation's history, and the crossings the re-inserted edges make get ids in the order
+    // they are found. Those ids decide ties and sums later (a face's centroid adds its vertices
+    // in id order), so Monaco at 5 m differed by one ulp between a tiled and an untiled run.
+    std::stable_sort(m_saved.begin(), m_saved.end(),
+                     [&](const Saved& p, const Saved& q) { return id(p.other) < id(q.other); });
     for (std::uint32_t o : olds) {
         remove_bounded(m_vertices[o].handle);
     }

@@ -1,5 +1,6 @@
 // Tiled snapping on real layers from ../shared/data: the stitched output holds the contract,
-// a planar partition stays one, and features equal the untiled run's (target >= 99.99 %).
+// a planar partition stays one, and every feature equals the untiled run's, bit for bit (the
+// contract: identical output for any tiling).
 // Small layers run by default (label unit); big ones under `slow`. Each prints a [tiles] line.
 #include "ogr_layer_reader.hpp"
 #include "test_data.hpp"
@@ -52,8 +53,8 @@ void run_case(const TiledCase& c)
               << ", identical " << n - diff.size() << "/" << n << "\n";
     EXPECT_TRUE(contract_holds(run.report, c.tolerance)) << run.report.summary();
     EXPECT_EQ(run.tiled.result.features.size(), n);
-    EXPECT_LE(static_cast<double>(diff.size()), 1e-4 * static_cast<double>(n))
-        << diff.size() << " features differ from the untiled run, first id " << (diff.empty() ? 0 : diff.front());
+    EXPECT_EQ(diff.size(), 0u) << diff.size() << " features differ from the untiled run, first id "
+                               << (diff.empty() ? 0 : diff.front());
     EXPECT_EQ(problems_without_seams(untiled.problems), problems_without_seams(run.tiled.result.problems));
     EXPECT_GT(run.tiled.stitch.leaves, 1u) << "the case should cut the layer";
     if (c.growth > 0) {
@@ -70,6 +71,35 @@ class TiledRealData : public ::testing::TestWithParam<TiledCase> {};
 class TiledRealDataSlow : public ::testing::TestWithParam<TiledCase> {};
 TEST_P(TiledRealData, ContractAndInvariance) { run_case(GetParam()); }
 TEST_P(TiledRealDataSlow, ContractAndInvariance) { run_case(GetParam()); }
+
+// Monaco at 5 m (at its mean latitude, as --tolerance-m 5 gives it), in the two tiles the default
+// budget makes (16 smaller ones did not show it). A merge put
+// the moved vertex's edges back in the order of a walk around its star, which starts at whatever
+// face CGAL keeps for the vertex: another face in a tile than untiled. The crossings those edges
+// made were numbered in that order, and a centroid later summed them in id order: one vertex one
+// ulp apart from the untiled run (fixed in core/mesh_edit.cpp, Mesh::replace).
+TEST(TiledRealDataAtLargeTolerance, MonacoAt5mEqualsTheUntiledRunBitForBit)
+{
+    const char* file = "osm_monaco_osrm_2020/monaco_osrm_2020.gpkg";
+    const auto path = shared_data(file);
+    if (!path) GTEST_SKIP() << "data set absent: " << TRISNAP_SHARED_DATA << "/" << file;
+    const LayerData data = read_ogr_layer(*path, "multipolygons");
+    const double t = 6.217106820017268e-05;
+    const SnapOptions o = options_at(t);
+    const stitch::TilingOptions tiling = tiles_of(0);
+    const SnapResult untiled = snap(data.features, o);
+    TiledRun run = tiled_and_check(data.features, o, tiling, 640);
+    EXPECT_GT(run.tiled.stitch.leaves, 1u) << "the case should cut the layer";
+    const auto diff = differing(untiled, run.tiled.result);
+    EXPECT_EQ(diff.size(), 0u) << diff.size() << " features differ from the untiled run, first id "
+                               << (diff.empty() ? 0 : diff.front());
+    EXPECT_EQ(problems_without_seams(untiled.problems), problems_without_seams(run.tiled.result.problems));
+    // Known, not excused by the engine: buildings 880 and 4005 share a 10 m chain of vertices less
+    // than t apart, which merges into one point (tiled and untiled alike). Every other promise holds.
+    EXPECT_EQ(run.report.n_shared_lost, 1u) << run.report.summary();
+    run.report.n_shared_lost = 0;
+    EXPECT_TRUE(contract_holds(run.report, t)) << run.report.summary();
+}
 
 const char* bgt = "bgt_delft_3dfier/bgt_delft.gpkg";
 

@@ -190,8 +190,56 @@ private:
 
 } // namespace
 
-std::vector<tiling::TileFeature> read_bucket(const tiling::WorkStore& store, std::size_t leaf)
+namespace {
+
+/// What a leaf's bucket holds of one spooled feature: the feature cut to the leaf's reach, with
+/// its rank and engine id. False when nothing of it is left.
+bool bucket_entry(const tiling::TileCutter& cutter, const SpoolMeta& meta, const detail::CleanFeature& cf, bool has_z,
+                  std::uint64_t rank, tiling::TileFeature& out)
 {
+    if (!cutter.cut(cf, has_z, out.feature, out.intact)) {
+        return false;
+    }
+    out.rank = rank;
+    out.feature.id = engine_id(meta, cf);
+    return true;
+}
+
+std::unique_ptr<tiling::TileCutter> leaf_cutter(const TileLayout& layout, const SpoolMeta& meta, std::size_t leaf)
+{
+    const Box& R = layout.reach[leaf];
+    return std::make_unique<tiling::TileCutter>(R, tiling::detour_frame(meta.sample.extent, R));
+}
+
+/// The bucket of a plan's only leaf, made from features.bin as bucket_pass() makes any other.
+std::vector<tiling::TileFeature> whole_bucket(const tiling::WorkStore& store, const TileLayout& layout,
+                                              const SpoolMeta& meta, std::size_t leaf)
+{
+    std::vector<tiling::TileFeature> out;
+    const std::unique_ptr<tiling::TileCutter> cutter = leaf_cutter(layout, meta, leaf);
+    SpooledFeatures in(store);
+    detail::CleanFeature cf;
+    bool has_z = false;
+    tiling::TileFeature tf;
+    for (std::uint64_t rank = 0; in.next(cf, has_z); ++rank) {
+        const Box b = box_of(cf);
+        if (!cf.rejected && !b.empty() && layout.reach[leaf].intersects(b) && bucket_entry(*cutter, meta, cf, has_z, rank, tf)) {
+            out.push_back(std::move(tf));
+        }
+    }
+    return out;
+}
+
+} // namespace
+
+bool whole_spool_bucket(const TileLayout& layout) { return layout.plan.size() == 1; }
+
+std::vector<tiling::TileFeature> read_bucket(const tiling::WorkStore& store, const TileLayout& layout, const SpoolMeta& meta,
+                                             std::size_t leaf)
+{
+    if (whole_spool_bucket(layout)) {
+        return whole_bucket(store, layout, meta, leaf);
+    }
     std::vector<tiling::TileFeature> out;
     if (!store.exists(files::bucket(leaf))) {
         return out;
@@ -286,6 +334,10 @@ void BucketMaker::bucket_pass()
     ReachGrid grid(m_layout.reach, m_meta.sample.extent);
     std::vector<std::unique_ptr<tiling::TileCutter>> cutters(n);
     BucketWriter writer(m_store, m_options.buffer_bytes);
+    // A plan's only leaf keeps no bucket file (read_bucket() makes it from features.bin): here
+    // its features are only counted. The layer is then not held twice (40 MB of Andorra x43's
+    // 127 in memory, or as much disk).
+    const bool whole = whole_spool_bucket(m_layout);
     SpooledFeatures in(m_store);
     detail::CleanFeature cf;
     bool has_z = false;
@@ -297,17 +349,16 @@ void BucketMaker::bucket_pass()
             grid.query(b, leaves);
             for (std::size_t leaf : leaves) {
                 if (!cutters[leaf]) {
-                    const Box& R = m_layout.reach[leaf];
-                    cutters[leaf] = std::make_unique<tiling::TileCutter>(R, tiling::detour_frame(m_meta.sample.extent, R));
+                    cutters[leaf] = leaf_cutter(m_layout, m_meta, leaf);
                 }
-                if (!cutters[leaf]->cut(cf, has_z, tf.feature, tf.intact)) {
+                if (!bucket_entry(*cutters[leaf], m_meta, cf, has_z, rank, tf)) {
                     continue;
                 }
-                tf.rank = rank;
-                tf.feature.id = engine_id(m_meta, cf);
                 m_layout.bucket_vertices[leaf] += tiling::engine_vertices(tf.feature.geometry);
                 ++m_layout.bucket_features[leaf];
-                writer.add(leaf, tf);
+                if (!whole) {
+                    writer.add(leaf, tf);
+                }
             }
         }
         if (m_progress && rank % 4096 == 0) {
@@ -345,7 +396,7 @@ void BucketMaker::fill_child(std::size_t leaf, const std::vector<tiling::TileFea
 // side when every vertex has one coordinate there).
 void BucketMaker::split(std::size_t leaf, std::deque<std::size_t>& queue)
 {
-    const std::vector<tiling::TileFeature> parent = read_bucket(m_store, leaf);
+    const std::vector<tiling::TileFeature> parent = read_bucket(m_store, m_layout, m_meta, leaf);
     const Box core = m_layout.core_box(leaf);
     const Region& region = m_layout.plan.core(leaf);
     std::vector<double> xs;

@@ -41,8 +41,9 @@ struct TilingOptions {
 /// refused by --resume instead of misread. 2: the tile report keeps every engine counter;
 /// records.bin flags the features the read reported a problem for; read.bin lists the problem
 /// log's runs instead of holding the problems. 3: a piece that is not whole carries its
-/// finished polygons after its edges. 4: read.bin leaves the spool's meta to spool.meta.
-inline constexpr int k_work_format = 4;
+/// finished polygons after its edges. 4: read.bin leaves the spool's meta to spool.meta. 5: a plan of
+/// one leaf writes no bucket file (its bucket is features.bin).
+inline constexpr int k_work_format = 5;
 
 /// Work file names.
 namespace files {

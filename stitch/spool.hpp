@@ -124,8 +124,13 @@ using PassProgress = std::function<void(std::uint64_t, std::uint64_t)>;
 TileLayout make_buckets(tiling::WorkStore& store, const SpoolMeta& meta, const TilingOptions& tiling,
                         const BucketOptions& options, const PassProgress& progress = {});
 
-/// A leaf's bucket, in input order.
-std::vector<tiling::TileFeature> read_bucket(const tiling::WorkStore& store, std::size_t leaf);
+/// A leaf's bucket, in input order: every spooled feature meeting its reach, cut to it.
+/// A plan of one leaf keeps no bucket file (whole_spool_bucket()): that bucket is made here from
+/// features.bin, each feature cut as make_buckets() cuts them (a layer then is not stored twice).
+std::vector<tiling::TileFeature> read_bucket(const tiling::WorkStore& store, const TileLayout& layout, const SpoolMeta& meta,
+                                             std::size_t leaf);
+/// True when the layout's buckets are made from features.bin as they are read (a plan of one leaf).
+bool whole_spool_bucket(const TileLayout& layout);
 
 /// Grows `reach` (starting as r0) by both ends of every edge of the feature that meets r0.
 void grow_reach(const detail::CleanFeature& cf, const tiling::Box& feature_box, const tiling::Box& r0, tiling::Box& reach);

@@ -213,7 +213,7 @@ tiling::TileJobInput TileRunner::gather(std::size_t group, double halo, TileInpu
         return gather_wide(group, halo, mode);
     }
     tiling::TileJobInput in;
-    in.features = read_bucket(m_store, leaves[0]);
+    in.features = read_bucket(m_store, m_layout, m_meta, leaves[0]);
     in.reach = m_layout.reach[leaves[0]];
     in.vertices = m_layout.bucket_vertices[leaves[0]];
     return in;
@@ -234,7 +234,7 @@ tiling::TileJobInput TileRunner::gather_wide(std::size_t group, double halo, Til
         m_layout.plan.query(b, leaves);
         std::set<std::uint64_t> ranks;
         for (std::size_t leaf : leaves) {
-            for (const tiling::TileFeature& f : read_bucket(m_store, leaf)) {
+            for (const tiling::TileFeature& f : read_bucket(m_store, m_layout, m_meta, leaf)) {
                 ranks.insert(f.rank);
             }
         }

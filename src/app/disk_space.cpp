@@ -83,8 +83,8 @@ void check_disk_before_read(WorkDir& work, const Plan& plan)
     }
 }
 
-// The buckets hold about features.bin again (a feature cut by seams is in several), the tile
-// results as much again.
+// The buckets hold about features.bin again (a feature cut by seams is in several; a plan of
+// one leaf keeps none, and this then asks for more than it needs), the tile results as much again.
 void check_disk_after_read(WorkDir& work, const stitch::SpoolMeta& meta)
 {
     if (!work.on_disk()) {

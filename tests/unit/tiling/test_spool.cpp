@@ -9,6 +9,7 @@
 #include "stitch/spool.hpp"
 #include "stitch/tiled_snap.hpp"
 #include "tiling/sample.hpp"
+#include "tiling/tile_input.hpp"
 #include "tiling/work_store.hpp"
 #include "core/wkt.hpp"
 
@@ -177,6 +178,61 @@ TEST_P(StoreTest, SpoolMetaKeepsThePlansSampleOnlyOnDisk)
         EXPECT_TRUE(loaded.sample.xs.empty());
         EXPECT_TRUE(loaded.sample.ys.empty());
     }
+}
+
+// A plan of one leaf (as with --no-tiles) stores no bucket: its bucket is features.bin, each
+// feature cut to the reach as it is read, and holds exactly what a bucket file would: every
+// feature that is not rejected, in order, whole, with the counts the layout gives.
+TEST_P(StoreTest, APlanOfOneLeafTakesItsBucketFromTheSpool)
+{
+    auto store = make();
+    const double t = 0.01;
+    std::vector<Feature> input = perturbed_grid_coverage(8, 8, 1.0, 0.2, 5, 1, 0.004);
+    Feature line;
+    line.id = 1000;
+    line.geometry.type = Geometry::Type::MultiLineString;
+    line.geometry.lines.push_back({{0.5, -1}, {3.5, 2.25}, {6.5, 9.5}});
+    input.push_back(line);
+    Feature rejected = input.front();
+    rejected.id = 1001;
+    rejected.geometry.polygons[0].rings[0][1].x = std::nan(""); // problem 106: nothing spooled to snap
+    input.insert(input.begin() + 3, rejected);
+    const stitch::SpoolMeta meta = spool_features(*store, input, t);
+    stitch::TilingOptions tiling;
+    tiling.plan.vertex_budget = 10000000;
+    stitch::TiledRun run(*store, options_at(t), tiling, stitch::ScheduleOptions{});
+    run.plan(meta);
+    const stitch::TileLayout& layout = run.layout();
+    ASSERT_EQ(layout.plan.size(), 1u);
+    EXPECT_TRUE(stitch::whole_spool_bucket(layout));
+    EXPECT_FALSE(store->exists(stitch::files::bucket(0))) << "the layer was stored twice";
+    const std::vector<tiling::TileFeature> bucket = stitch::read_bucket(*store, layout, meta, 0);
+    stitch::SpooledFeatures spooled(*store);
+    detail::CleanFeature cf;
+    bool has_z = false;
+    std::size_t k = 0;
+    std::uint64_t vertices = 0;
+    for (std::uint64_t rank = 0; spooled.next(cf, has_z); ++rank) {
+        if (cf.rejected) {
+            continue;
+        }
+        ASSERT_LT(k, bucket.size()) << "feature " << cf.id << " is missing";
+        const tiling::TileFeature& f = bucket[k++];
+        EXPECT_EQ(f.rank, rank);
+        EXPECT_EQ(f.feature.id, stitch::engine_id(meta, cf));
+        EXPECT_TRUE(f.intact) << "feature " << cf.id << " was cut";
+        const detail::CleanFeature back = stitch::as_clean(f.feature);
+        ASSERT_EQ(back.rings.size(), cf.rings.size()) << "feature " << cf.id;
+        for (std::size_t r = 0; r < cf.rings.size(); ++r) {
+            EXPECT_EQ(back.rings[r].points, cf.rings[r].points) << "feature " << cf.id << " ring " << r;
+        }
+        EXPECT_EQ(back.lines, cf.lines) << "feature " << cf.id;
+        vertices += tiling::engine_vertices(f.feature.geometry);
+    }
+    EXPECT_EQ(k, bucket.size());
+    EXPECT_EQ(bucket.size(), input.size() - 1) << "only the rejected feature stays out";
+    EXPECT_EQ(layout.bucket_features[0], bucket.size());
+    EXPECT_EQ(layout.bucket_vertices[0], vertices);
 }
 
 INSTANTIATE_TEST_SUITE_P(Stores, StoreTest, ::testing::Values(false, true),

@@ -235,7 +235,6 @@ double Mesh::interpolated_z(cdt::Vertex_handle h)
     double sum = 0;
     int n = 0;
     std::vector<OwnerRef> refs;
-    std::vector<std::uint32_t> seen;
     auto vc = m_tri.incident_vertices(h);
     const auto done = vc;
     do {
@@ -243,11 +242,15 @@ double Mesh::interpolated_z(cdt::Vertex_handle h)
             m_edge_owners.get(id(h), id(vc), refs);
         }
     } while (++vc != done);
-    for (const OwnerRef& ref : refs) {
-        if (std::find(seen.begin(), seen.end(), ref.owner) != seen.end()) {
+    // Summed in owner order, not in the order of the walk round h, which starts at whatever face
+    // CGAL keeps for it (another in a tile): three or more z values add up differently in the
+    // last bit in another order.
+    std::sort(refs.begin(), refs.end(), [](const OwnerRef& a, const OwnerRef& b) { return a.owner < b.owner; });
+    for (std::size_t k = 0; k < refs.size(); ++k) {
+        if (k > 0 && refs[k].owner == refs[k - 1].owner) {
             continue;
         }
-        seen.push_back(ref.owner);
+        const OwnerRef& ref = refs[k];
         const VertexRecord& ra = m_vertices[current(m_owners[ref.owner].from)];
         const VertexRecord& rb = m_vertices[current(m_owners[ref.owner].to)];
         const double la = std::hypot(x - ra.x, y - ra.y);

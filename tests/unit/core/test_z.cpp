@@ -92,6 +92,35 @@ TEST(Z, CrossingOfTwo25DLinesTakesTheMeanOfBothInterpolations) {
     EXPECT_EQ(z_at(r.features[1].geometry, 5, 5), std::optional<double>(12.5)) << to_wkt(r.features[1].geometry);
 }
 
+TEST(Z, ThreeEdgesThroughAVertexAddTheirZInInputOrderWhateverTheTriangulation) {
+    // At (5 5) the lines interpolate 1e16, -1e16 and 1. In input order the sum is 0 + 1, the
+    // mean 1/3; in another order 1e16 + 1 rounds to 1e16 and the mean is 0. The walk round the
+    // vertex starts at whatever face CGAL keeps for it, which other features nearby (another
+    // tile's point set) change: the sum must not follow it.
+    const std::vector<Feature> lines = {feature(1, "LINESTRING Z (0 0 2e16, 10 10 0)"),
+                                        feature(2, "LINESTRING Z (0 10 -2e16, 10 0 0)"),
+                                        feature(3, "LINESTRING Z (0 5 2, 10 5 0)")};
+    for (int extra = 0; extra < 24; ++extra) {
+        std::vector<Feature> in = lines;
+        for (int k = 0; k < extra; ++k) {
+            // Small triangles in the two gaps between the lines (45-135 and 225-315 degrees), 2.6
+            // to 4 from the crossing: more than t from every line, near enough to change its star.
+            const double a = (k % 2 ? 1.25 : 0.25) * 3.14159265358979 + 0.3 + 0.4 * ((k * 7 + extra) % 5) / 4.0;
+            const double d = 2.6 + 1.4 * ((k * 3 + extra) % 4) / 3.0;
+            const double x = 5 + d * std::cos(a) - 0.1, y = 5 + d * std::sin(a) - 0.1;
+            in.push_back(feature(10 + k, "POLYGON ((" + std::to_string(x) + " " + std::to_string(y) + ", " +
+                                             std::to_string(x + 0.2) + " " + std::to_string(y) + ", " + std::to_string(x + 0.1) +
+                                             " " + std::to_string(y + 0.2) + ", " + std::to_string(x) + " " +
+                                             std::to_string(y) + "))"));
+        }
+        const SnapResult r = snap(in, options_at(t));
+        for (int f = 0; f < 3; ++f) {
+            EXPECT_EQ(z_at(r.features[f].geometry, 5, 5), std::optional<double>(1.0 / 3.0))
+                << extra << " extra features: " << to_wkt(r.features[f].geometry);
+        }
+    }
+}
+
 TEST(Z, VertexSnappedOntoAnEdgeSharesOneZWithIt) {
     // The vertex (10.3 5 7) moves onto the edge (10 0 0)-(10 10 10) where that edge
     // interpolates 5: both polygons carry the same vertex, with the mean 6.

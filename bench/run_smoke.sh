@@ -6,7 +6,8 @@
 #    bench/results/pipeline_smoke.json (< 30 s here);
 #  - bench/compare on the bundled data/delft_partition_sample.gpkg at 1 cm, every tool (trisnap,
 #    CGAL ISR and SR, GEOS, each judged by `trisnap assess`), writing
-#    bench/results/compare_smoke.json (< 60 s); fails when a tool fails or the table lacks a key.
+#    bench/results/compare_smoke.json (< 60 s); fails when a tool fails or the table lacks a key;
+#  - bench_handoff once on the same sample (bench/results/handoff_smoke.json, < 1 s);
 # Fails when a binary is missing, when a run fails, or when a benchmark reports an error other
 # than an absent data set.
 #   BENCH_ENGINE=path BENCH_PIPELINE=path BENCH_COMPARE_TOOLS=path bench/run_smoke.sh   (default: newest of build/{bench,release,dev})
@@ -131,6 +132,21 @@ timeout 300 python3 "$root/bench/adversarial" --bench "$adversarial" \
   --json "$root/bench/results/adversarial_smoke.json" \
   || { echo "run_smoke: bench/adversarial failed" >&2; exit 1; }
 check_results "$root/bench/results/adversarial_smoke.json"
+
+# Handing features between threads (GDAL alone), once on the bundled sample: every setup ran.
+handoff="$(find_binary bench_handoff "${BENCH_HANDOFF:-}")"
+timeout 120 "$handoff" "$root/data/delft_partition_sample.gpkg" --runs 1 \
+  --json "$root/bench/results/handoff_smoke.json" || { echo "run_smoke: bench_handoff failed" >&2; exit 1; }
+python3 - "$root/bench/results/handoff_smoke.json" <<'PY'
+import json, sys
+setups = json.load(open(sys.argv[1]))["setups"]
+want = {"read", "write", "read_beside_write", "write_made_elsewhere", "serial", "pipeline", "pipeline_back"}
+bad = sorted(want - {s["name"] for s in setups}) + [s["name"] for s in setups if not s["wall_s"] > 0]
+if bad:
+    print(f"run_smoke: bench_handoff: missing or not timed: {bad}", file=sys.stderr)
+    sys.exit(1)
+print(f"run_smoke: ok, {len(setups)} setups in {sys.argv[1]}")
+PY
 
 # trisnap against GEOS per feature and the read + CDT + write floor, one run on Andorra.
 if [[ -f "$andorra" ]]; then

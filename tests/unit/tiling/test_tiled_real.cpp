@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <iostream>
 
 namespace trisnap {
@@ -24,6 +25,9 @@ struct TiledCase {
     int growth = 0; ///< --halo-max-growth; > 0 must see the cascade test fire on this case
     /// Features the engine may flag (as measured untiled and tiled when the bound came in).
     std::size_t max_flagged = 0;
+    /// Shared boundaries the checker finds lost with no problem reported: a known defect,
+    /// pinned at its count (tiled and untiled alike) so that it can neither grow nor hide.
+    std::size_t shared_lost = 0;
 };
 
 std::string case_name(const ::testing::TestParamInfo<TiledCase>& info) { return info.param.name; }
@@ -51,7 +55,10 @@ void run_case(const TiledCase& c)
               << " (plan " << run.tiled.stitch.leaves << ", seam merges " << run.tiled.stitch.seam_merges
               << ", halo growths " << run.tiled.stitch.halo_growths << "), assembled " << run.tiled.stitch.assembled_features
               << ", identical " << n - diff.size() << "/" << n << "\n";
-    EXPECT_TRUE(contract_holds(run.report, c.tolerance)) << run.report.summary();
+    EXPECT_EQ(run.report.n_shared_lost, c.shared_lost) << run.report.summary();
+    ContractReport report = run.report;
+    report.n_shared_lost -= std::min(report.n_shared_lost, c.shared_lost);
+    EXPECT_TRUE(contract_holds(report, c.tolerance)) << run.report.summary();
     EXPECT_EQ(run.tiled.result.features.size(), n);
     EXPECT_EQ(diff.size(), 0u) << diff.size() << " features differ from the untiled run, first id "
                                << (diff.empty() ? 0 : diff.front());
@@ -72,35 +79,6 @@ class TiledRealDataSlow : public ::testing::TestWithParam<TiledCase> {};
 TEST_P(TiledRealData, ContractAndInvariance) { run_case(GetParam()); }
 TEST_P(TiledRealDataSlow, ContractAndInvariance) { run_case(GetParam()); }
 
-// Monaco at 5 m (at its mean latitude, as --tolerance-m 5 gives it), in the two tiles the default
-// budget makes (16 smaller ones did not show it). A merge put
-// the moved vertex's edges back in the order of a walk around its star, which starts at whatever
-// face CGAL keeps for the vertex: another face in a tile than untiled. The crossings those edges
-// made were numbered in that order, and a centroid later summed them in id order: one vertex one
-// ulp apart from the untiled run (fixed in core/mesh_edit.cpp, Mesh::replace).
-TEST(TiledRealDataAtLargeTolerance, MonacoAt5mEqualsTheUntiledRunBitForBit)
-{
-    const char* file = "osm_monaco_osrm_2020/monaco_osrm_2020.gpkg";
-    const auto path = shared_data(file);
-    if (!path) GTEST_SKIP() << "data set absent: " << TRISNAP_SHARED_DATA << "/" << file;
-    const LayerData data = read_ogr_layer(*path, "multipolygons");
-    const double t = 6.217106820017268e-05;
-    const SnapOptions o = options_at(t);
-    const stitch::TilingOptions tiling = tiles_of(0);
-    const SnapResult untiled = snap(data.features, o);
-    TiledRun run = tiled_and_check(data.features, o, tiling, 640);
-    EXPECT_GT(run.tiled.stitch.leaves, 1u) << "the case should cut the layer";
-    const auto diff = differing(untiled, run.tiled.result);
-    EXPECT_EQ(diff.size(), 0u) << diff.size() << " features differ from the untiled run, first id "
-                               << (diff.empty() ? 0 : diff.front());
-    EXPECT_EQ(problems_without_seams(untiled.problems), problems_without_seams(run.tiled.result.problems));
-    // Known, not excused by the engine: buildings 880 and 4005 share a 10 m chain of vertices less
-    // than t apart, which merges into one point (tiled and untiled alike). Every other promise holds.
-    EXPECT_EQ(run.report.n_shared_lost, 1u) << run.report.summary();
-    run.report.n_shared_lost = 0;
-    EXPECT_TRUE(contract_holds(run.report, t)) << run.report.summary();
-}
-
 const char* bgt = "bgt_delft_3dfier/bgt_delft.gpkg";
 
 INSTANTIATE_TEST_SUITE_P(Layers, TiledRealData, ::testing::Values(
@@ -108,7 +86,16 @@ INSTANTIATE_TEST_SUITE_P(Layers, TiledRealData, ::testing::Values(
     TiledCase{"BgtPartitionSmallTiles1m", bgt, "bgt_maaiveld_partition", 1.0, 150, 0, true, 0, 50},
     TiledCase{"BgtPartitionCascadeTest1m", bgt, "bgt_maaiveld_partition", 1.0, 150, 0, true, 1, 50},
     TiledCase{"BgtPartitionBalanced1cm", bgt, "bgt_maaiveld_partition", 0.01, 0, 2000, true, 0, 9},
-    TiledCase{"AndorraSmallTiles", "snapoly_andorra/andorra.gpkg", "andorra", 1e-6, 0.01, 100000, false, 0, 1}), case_name);
+    TiledCase{"AndorraSmallTiles", "snapoly_andorra/andorra.gpkg", "andorra", 1e-6, 0.01, 100000, false, 0, 1},
+    // 5 m at Monaco's mean latitude (as --tolerance-m 5 gives it) in the default budget's two
+    // tiles (16 smaller ones did not show it): a merge put the moved vertex's edges back in the
+    // order of a walk round it, which starts at whatever face CGAL keeps for the vertex (another
+    // in a tile); the crossings they made were numbered in that order and a centroid later summed
+    // them in id order: one vertex one ulp off the untiled run (fixed in Mesh::replace). Buildings
+    // 880 and 4005 lose their shared boundary here (a 10 m chain of vertices closer than t merges
+    // into one point), unreported: the known defect pinned below.
+    TiledCase{"MonacoMultipolygons5m", "osm_monaco_osrm_2020/monaco_osrm_2020.gpkg", "multipolygons",
+              6.217106820017268e-05, 0, 100000, false, 0, 640, 1}), case_name);
 
 INSTANTIATE_TEST_SUITE_P(Layers, TiledRealDataSlow, ::testing::Values(
     TiledCase{"MonacoMultipolygons1e5", "osm_monaco_osrm_2020/monaco_osrm_2020.gpkg", "multipolygons", 1e-5, 0.003, 100000, false, 0, 144},

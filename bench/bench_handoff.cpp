@@ -4,7 +4,9 @@
 //   read                 the layer read (geometry envelope per feature), one thread;
 //   write                features read earlier cloned and written to a new GeoPackage (no
 //                        spatial index, one transaction), one thread;
-//   read_beside_write    both at once on two threads, each on its own features: times of each;
+//   read_beside_write    both at once on two threads, each on its own features: the writer's
+//                        loop and the reader, each timed on its thread (the wall column also
+//                        holds creating, committing and freeing);
 //   write_made_elsewhere the write of features another thread cloned earlier (not concurrently):
 //                        the writer's CPU seconds, against `write`'s;
 //   serial               read + clone + write on one thread;
@@ -16,6 +18,7 @@
 //   bench_handoff IN [--layer NAME] [--runs N] [--work DIR] [--json FILE]
 #include <CLI/CLI.hpp>
 #include <gdal_priv.h>
+#include <nlohmann/json.hpp>
 #include <ogrsf_frmts.h>
 
 #include <algorithm>
@@ -374,16 +377,15 @@ int main(int argc, char** argv)
         }
     }
     if (!json.empty()) {
-        std::ofstream out(json);
-        out << "{\"input\": \"" << in.path << "\", \"runs\": " << runs << ", \"setups\": [";
-        for (std::size_t i = 0; i < passes.size(); ++i) {
-            const Pass& p = passes[i];
-            out << (i ? ", " : "") << "{\"name\": \"" << p.name << "\", \"wall_s\": " << median(p.wall)
-                << ", \"writer_cpu_s\": " << (p.cpu.empty() ? std::string("null") : std::to_string(median(p.cpu)))
-                << ", \"other_thread_s\": " << (p.other.empty() ? std::string("null") : std::to_string(median(p.other)))
-                << "}";
+        nlohmann::json doc = {{"input", in.path}, {"runs", runs}, {"setups", nlohmann::json::array()}};
+        for (const Pass& p : passes) {
+            doc["setups"].push_back({{"name", p.name},
+                                     {"wall_s", median(p.wall)},
+                                     {"writer_cpu_s", p.cpu.empty() ? nlohmann::json() : nlohmann::json(median(p.cpu))},
+                                     {"other_thread_s", p.other.empty() ? nlohmann::json() : nlohmann::json(median(p.other))}});
         }
-        out << "]}\n";
+        std::ofstream out(json);
+        out << doc.dump(1) << "\n";
         out.close();
         if (!out) {
             std::fprintf(stderr, "bench_handoff: cannot write %s\n", json.c_str());

@@ -43,7 +43,7 @@ struct TilingOptions {
 /// log's runs instead of holding the problems. 3: a piece that is not whole carries its
 /// finished polygons after its edges. 4: read.bin leaves the spool's meta to spool.meta. 5: a plan of
 /// one leaf writes no bucket file (its bucket is features.bin).
-inline constexpr int k_work_format = 5;
+inline constexpr int k_work_format = 6;
 
 /// Work file names.
 namespace files {

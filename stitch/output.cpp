@@ -2,6 +2,7 @@
 
 #include "core/assemble.hpp"
 #include "core/outcome.hpp"
+#include "core/shared_boundaries.hpp"
 #include "tiling/tile_input.hpp"
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include <iterator>
 #include <map>
 #include <queue>
+#include <set>
 #include <tuple>
 
 namespace trisnap::stitch {
@@ -111,6 +113,8 @@ struct OutputMerger::Impl {
     /// The feature's output from its pieces (a whole piece's geometry is moved out of it).
     Geometry build(const detail::CleanFeature& cf, bool has_z, std::vector<Piece>& pieces);
     void tile_problems(const detail::CleanFeature& cf, const std::vector<Piece>& pieces, std::vector<Problem>& out) const;
+    void lost_boundaries(const detail::CleanFeature& cf, std::uint64_t here, const Geometry& g,
+                         std::vector<Piece>& pieces, std::vector<Problem>& out);
 
     tiling::WorkStore& store;
     const SpoolMeta& meta;
@@ -122,6 +126,9 @@ struct OutputMerger::Impl {
     std::vector<std::pair<std::uint64_t, Problem>> seam_problems; ///< sorted by rank
     std::size_t next_seam = 0;
     std::uint64_t rank = 0;
+    /// (later rank, earlier rank) of pairs that may have lost their boundary, the earlier one
+    /// written: what lost_boundaries() needs from the earlier one's turn.
+    std::set<std::pair<std::uint64_t, std::uint64_t>> earlier_written;
 };
 
 void OutputMerger::Impl::read_reports(const std::vector<std::size_t>& live)
@@ -141,11 +148,16 @@ void OutputMerger::Impl::read_reports(const std::vector<std::size_t>& live)
 
 Geometry OutputMerger::Impl::build(const detail::CleanFeature& cf, bool has_z, std::vector<Piece>& pieces)
 {
-    if (pieces.size() == 1 && pieces[0].whole) {
-        ++counts.copied;
-        Geometry g = std::move(pieces[0].geometry);
-        g.has_z = has_z;
-        return g;
+    // A piece with no geometry (only a move, problems or shared-boundary evidence) adds no edge.
+    const auto carries = [](const Piece& p) { return p.whole || !p.edges.empty() || !p.geometry.polygons.empty(); };
+    if (std::count_if(pieces.begin(), pieces.end(), carries) == 1) {
+        Piece& only = *std::find_if(pieces.begin(), pieces.end(), carries);
+        if (only.whole) {
+            ++counts.copied;
+            Geometry g = std::move(only.geometry);
+            g.has_z = has_z;
+            return g;
+        }
     }
     std::vector<DirectedEdge> edges;
     std::vector<Polygon> finished;
@@ -200,6 +212,34 @@ void OutputMerger::Impl::tile_problems(const detail::CleanFeature& cf, const std
         }
         out.push_back(std::move(p));
     }
+}
+
+// 210: the tiles' evidence of the feature's shared boundaries, merged pair by pair, judged by
+// the engine's rule (core/shared_boundaries.hpp) on the later feature of a pair: the earlier one
+// left, at its turn, whether it was written, for the pairs that may be lost (few). Other features
+// are named by their engine id: the FID, or the input position when FIDs repeat across layers.
+void OutputMerger::Impl::lost_boundaries(const detail::CleanFeature& cf, std::uint64_t here, const Geometry& g,
+                                         std::vector<Piece>& pieces, std::vector<Problem>& out)
+{
+    std::vector<SharedBoundary> shared;
+    for (Piece& p : pieces) {
+        shared.insert(shared.end(), p.shared.begin(), p.shared.end());
+        p.shared.clear();
+    }
+    detail::merge_shared_boundaries(shared);
+    for (const SharedBoundary& s : shared) {
+        if (s.other_position > here && !g.empty() && detail::lost_candidate(s, options.tolerance)) {
+            earlier_written.emplace(s.other_position, here);
+        }
+    }
+    const bool fids = meta.fids_unique;
+    detail::report_lost_boundaries(
+        cf.id, here, !g.empty(), options.tolerance, shared,
+        [&](const SharedBoundary& s) { return earlier_written.count({here, s.other_position}) > 0; },
+        [fids](std::int64_t other) {
+            return fids ? "FID " + std::to_string(other) : "the feature at input position " + std::to_string(other);
+        },
+        out);
 }
 
 OutputMerger::OutputMerger(tiling::WorkStore& store, const TileLayout& layout, const Groups& groups, const SpoolMeta& meta,
@@ -269,7 +309,9 @@ bool OutputMerger::next(OutputItem& item)
         if (detail::outcome_problems(cf, item.output.geometry, item.output.max_displacement, m.options, item.problems)) {
             ++m.counts.stats.collapsed_features;
         }
+        m.lost_boundaries(cf, rank, item.output.geometry, pieces, item.problems);
     }
+    m.earlier_written.erase(m.earlier_written.lower_bound({rank, 0}), m.earlier_written.lower_bound({rank + 1, 0}));
     for (; m.next_seam < m.seam_problems.size() && m.seam_problems[m.next_seam].first == rank; ++m.next_seam) {
         Problem p = m.seam_problems[m.next_seam].second;
         p.feature_id = cf.id;

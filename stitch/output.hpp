@@ -3,7 +3,7 @@
 // results (each in input order) in step with features.bin. A feature one tile had whole and
 // owns entirely is copied; any other is rebuilt from the edges its tiles own by the one
 // assembler (core/assemble.hpp), so it is the feature an untiled run traces. Per-feature
-// outcomes (201-204, 206, 208) are judged here, on the stitched feature.
+// outcomes (201-204, 206, 208, and 210 from the tiles' evidence) are judged here, on the stitched feature.
 // Memory: one record buffer per result file (merged in rounds when there are many files) and
 // the current feature.
 #include "core/snap.hpp"

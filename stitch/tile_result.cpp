@@ -59,6 +59,15 @@ void put_piece(tiling::ByteWriter& w, const Piece& p)
     for (const Problem& q : p.problems) {
         tiling::put_problem(w, q);
     }
+    w.put<std::uint32_t>(static_cast<std::uint32_t>(p.shared.size()));
+    for (const SharedBoundary& s : p.shared) {
+        w.put<std::int64_t>(s.other);
+        w.put<std::uint64_t>(s.other_position);
+        w.put<std::uint8_t>(static_cast<std::uint8_t>((s.before ? 1 : 0) | (s.after ? 2 : 0)));
+        w.put(s.x);
+        w.put(s.y);
+        w.put(s.length);
+    }
 }
 
 Piece get_piece(tiling::ByteReader& r)
@@ -80,6 +89,17 @@ Piece get_piece(tiling::ByteReader& r)
     p.problems.resize(r.get_count(24));
     for (Problem& q : p.problems) {
         q = tiling::get_problem(r);
+    }
+    p.shared.resize(r.get_count(41));
+    for (SharedBoundary& s : p.shared) {
+        s.other = r.get<std::int64_t>();
+        s.other_position = r.get<std::uint64_t>();
+        const auto flags = r.get<std::uint8_t>();
+        s.before = (flags & 1) != 0;
+        s.after = (flags & 2) != 0;
+        s.x = r.get<double>();
+        s.y = r.get<double>();
+        s.length = r.get<double>();
     }
     return p;
 }

@@ -4,7 +4,8 @@
 //  - A Piece is what one tile says about one feature: its whole output (the tile owns every edge
 //    of it and had it whole), or the edges it owns (an edge belongs to the tile whose core holds
 //    its midpoint), the largest move it measured in its core, and the problems whose evidence
-//    lies in its core (105, 205, 207, 209; the rest is judged on the stitched feature).
+//    lies in its core (105, 205, 207, 209; the rest is judged on the stitched feature), and what
+//    it saw of the boundaries the feature shares with others (evidence for 210).
 //  - A SeamEdge is an edge the tile produced within the seam band of another leaf's core, with
 //    the leaves it is near and whether the tile owns it: what the seam check compares.
 #include "core/assemble.hpp"
@@ -31,6 +32,9 @@ struct Piece {
     Geometry geometry;
     std::vector<DirectedEdge> edges; ///< when not whole: the other edges the tile owns
     std::vector<Problem> problems;   ///< feature_id: the engine id
+    /// What the tile saw of the boundaries the feature shares (FeatureOutput::shared; other:
+    /// the engine id); the stitch merges its tiles' and judges problem 210.
+    std::vector<SharedBoundary> shared;
 };
 
 struct SeamEdge {

@@ -45,7 +45,7 @@ public:
         : m_layout(layout), m_groups(groups), m_group(group)
     {
     }
-    void add_feature(std::uint64_t rank, bool intact, const FeatureOutput& fo);
+    void add_feature(std::uint64_t rank, bool intact, const FeatureOutput& fo, const std::vector<std::uint64_t>& ranks);
     void add_problem(std::size_t position, const Problem& p);
     std::vector<Piece>& pieces() { return m_pieces; }
     std::vector<SeamEdge>& seams() { return m_seams; }
@@ -118,11 +118,16 @@ bool ResultBuilder::in_a_core(const Polygon& poly) const
     return mine(leaf) && inside_region(m_layout.plan.core(leaf), b);
 }
 
-void ResultBuilder::add_feature(std::uint64_t rank, bool intact, const FeatureOutput& fo)
+void ResultBuilder::add_feature(std::uint64_t rank, bool intact, const FeatureOutput& fo,
+                                const std::vector<std::uint64_t>& ranks)
 {
     Piece piece;
     piece.rank = rank;
     piece.displacement = fo.max_displacement;
+    piece.shared = fo.shared;
+    for (SharedBoundary& s : piece.shared) {
+        s.other_position = ranks[s.other_position]; // the tile's input position -> the rank
+    }
     piece.has_z = fo.geometry.has_z;
     piece.geometry.has_z = fo.geometry.has_z;
     std::size_t total = 0;
@@ -186,7 +191,8 @@ void ResultBuilder::add_problem(std::size_t position, const Problem& p)
 
 bool worth_keeping(const Piece& p)
 {
-    return p.whole || !p.edges.empty() || !p.geometry.polygons.empty() || p.displacement > 0 || !p.problems.empty();
+    return p.whole || !p.edges.empty() || !p.geometry.polygons.empty() || p.displacement > 0 || !p.problems.empty() ||
+           !p.shared.empty();
 }
 
 } // namespace
@@ -282,7 +288,7 @@ void TileRunner::commit(std::size_t group, const tiling::TileOutcome& oc, TileRe
     ResultBuilder builder(m_layout, m_groups, group);
     std::unordered_map<std::int64_t, std::size_t> position;
     for (std::size_t k = 0; k < oc.ranks.size(); ++k) {
-        builder.add_feature(oc.ranks[k], oc.intact[k], oc.result.features[k]);
+        builder.add_feature(oc.ranks[k], oc.intact[k], oc.result.features[k], oc.ranks);
         position.emplace(oc.result.features[k].id, k);
     }
     for (const Problem& p : oc.result.problems) {
@@ -378,6 +384,14 @@ TileReport TileRunner::run(std::size_t group, const SnapProgress& progress, Tile
     job.max_growth = m_max_growth;
     SnapOptions options = m_options;
     options.progress = progress;
+    if (m_groups.leaves[group].size() > 1) {
+        for (std::size_t leaf : m_groups.leaves[group]) {
+            options.report_cores.push_back(m_layout.plan.core(leaf));
+        }
+    }
+    if (const tiling::Box& x = m_layout.plan.extent(); !x.empty()) {
+        options.data_extent = Region{x.xmin, x.ymin, x.xmax, x.ymax}; // closed for this use
+    }
     const tiling::TileOutcome oc = tiling::run_tile(job, options, gather_input);
     TileReport report;
     report.id = m_groups.leaves[group].front();

@@ -11,7 +11,7 @@ namespace {
 
 constexpr std::array k_missing{106, 107, 108, 109, 110, 201, 202, 303, 901, 902};
 constexpr std::array k_drift{103, 104, 105, 203, 204, 206, 208, 209};
-constexpr std::array k_gap{203, 204, 208, 209};
+constexpr std::array k_gap{203, 204, 208, 209, 210};
 constexpr std::array k_separation{205, 207};
 
 std::span<const int> codes_for(Defect defect)

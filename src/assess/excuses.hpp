@@ -7,7 +7,7 @@
 //  - drift (Hausdorff > 2T) of that feature: 103 degenerate_ring and 104 degenerate_line
 //    (dropped), 105 self_intersection (repaired odd-even), 203 part_removed, 204 hole_removed,
 //    206 drift_exceeded, 208 topology_changed, 209 thin_part_collapsed;
-//  - a new gap between two features: 203, 204, 208 or 209 on either of them;
+//  - a new gap between two features: 203, 204, 208, 209 or 210 shared_boundary_lost on either;
 //  - a separation breach (vertex-vertex < T, vertex-edge < T/2): a 205 not_converged or 207
 //    separation_not_reached problem located within T of either end of the pair.
 // Invalid polygons, new overlaps and new crossings are never excused: no code explains them.

@@ -26,6 +26,7 @@ constexpr std::array k_catalogue{
     ProblemInfo{ProblemCode::separation_not_reached, "separation_not_reached", "the requested edge separation does not hold at this place"},
     ProblemInfo{ProblemCode::topology_changed, "topology_changed", "a neck thinner than the tolerance collapsed: the feature split into more parts or holes"},
     ProblemInfo{ProblemCode::thin_part_collapsed, "thin_part_collapsed", "a spike or corridor thinner than the tolerance collapsed to a line and left the polygon"},
+    ProblemInfo{ProblemCode::shared_boundary_lost, "shared_boundary_lost", "the boundary it shared with another polygon (named in the message) collapsed: both remain, but they no longer share a boundary"},
     ProblemInfo{ProblemCode::seam_mismatch, "seam_mismatch", "tiles disagreed on a seam vertex; reconciled"},
     ProblemInfo{ProblemCode::seam_cascade, "seam_cascade", "a snap cascade reached a tile halo; the tile was re-run wider"},
     ProblemInfo{ProblemCode::tile_failed, "tile_failed", "its tile failed, alone and merged with its neighbours (--on-error skip); not written"},

@@ -30,6 +30,7 @@ enum class ProblemCode : int {
     separation_not_reached = 207, ///< the requested edge_separation factor does not hold here
     topology_changed = 208,       ///< parts or holes merged or split by snapping
     thin_part_collapsed = 209,    ///< a spike or corridor thinner than t collapsed to a line
+    shared_boundary_lost = 210,   ///< a boundary shared with another polygon collapsed to points
     // 3xx: seams between tiles
     seam_mismatch = 301,          ///< tiles disagreed on a seam vertex; reconciled
     seam_cascade = 302,           ///< a snap cascade reached a tile halo; tile re-run wider

@@ -19,6 +19,7 @@
 #include "core/labelling.hpp"
 #include "core/mesh.hpp"
 #include "core/outcome.hpp"
+#include "core/shared_boundaries.hpp"
 #include "core/snapper.hpp"
 
 #include <algorithm>
@@ -120,6 +121,29 @@ bool all_within_tolerance(const std::vector<CleanFeature>& clean, double t)
     return any && dx * dx + dy * dy < t * t * (1.0 - 1e-9);
 }
 
+// Problem 210 (core/shared_boundaries.hpp): decided here when this run sees everything; a tile
+// (a bounded report region) gives its evidence to the stitch instead, which merges its tiles'.
+void give_shared(const std::vector<CleanFeature>& clean, const detail::SharedBoundaryEvidence& shared,
+                 const std::vector<bool>& written, const SnapOptions& options, SnapResult& result)
+{
+    std::vector<std::vector<SharedBoundary>> seen = shared.by_feature(clean);
+    const bool everything = options.report_region.unbounded() && options.data_extent.unbounded() && options.report_cores.empty();
+    std::vector<bool> written_at(result.features.size(), false); // by input position
+    for (std::size_t f = 0; f < clean.size(); ++f) {
+        written_at[clean[f].index] = written[f];
+    }
+    const auto other_written = [&](const SharedBoundary& s) { return written_at[s.other_position]; };
+    const auto name = [](std::int64_t other) { return "feature " + std::to_string(other); };
+    for (std::size_t f = 0; f < clean.size(); ++f) {
+        if (everything) {
+            detail::report_lost_boundaries(clean[f].id, clean[f].index, written[f], options.tolerance, seen[f],
+                                           other_written, name, result.problems);
+        } else {
+            result.features[clean[f].index].shared = std::move(seen[f]);
+        }
+    }
+}
+
 void extract_all(Context& c, const detail::FaceLabels& labels)
 {
     const std::vector<double> deviation = detail::edge_deviation(c.mesh, c.clean, c.options.report_region);
@@ -219,6 +243,8 @@ SnapResult snap_features(const std::vector<Feature>& features, const SnapOptions
     for (std::size_t f = 0; f < clean.size(); ++f)
         if (crossing[f]) result.problems.push_back(Problem{clean[f].id, ProblemCode::self_intersection,
             "rings cross or overlap; repaired with the odd-even rule", clean[f].rings[0].points[0].x, clean[f].rings[0].points[0].y});
+    detail::SharedBoundaryEvidence shared(options.report_region, options.report_cores, options.data_extent);
+    shared.before(mesh);
     st.seconds_triangulate = clock.lap();
     const detail::SnapperOutcome outcome = detail::run_snapper(mesh, params, &meter);
     st.merges = outcome.merges;
@@ -245,6 +271,8 @@ SnapResult snap_features(const std::vector<Feature>& features, const SnapOptions
     }
     detail::report_collapsed_edges(mesh, clean, written, options.report_region, result.problems);
     detail::report_unresolved(mesh, outcome, clean, options.report_region, options.grid, result.problems);
+    shared.after(mesh);
+    give_shared(clean, shared, written, options, result);
     st.output_vertices = mesh.tri().number_of_vertices() - Mesh::frame_vertices;
     st.seconds_extract = clock.lap();
     sort_problems(result.problems);

@@ -22,6 +22,8 @@ struct Region {
     double ymax = std::numeric_limits<double>::infinity();
     bool contains(double x, double y) const { return xmin <= x && x < xmax && ymin <= y && y < ymax; }
     bool unbounded() const { return *this == Region{}; }
+    /// The closed box: a point on its border counts.
+    bool contains_closed(double x, double y) const { return xmin <= x && x <= xmax && ymin <= y && y <= ymax; }
     friend bool operator==(const Region&, const Region&) = default;
 };
 
@@ -78,6 +80,15 @@ struct SnapOptions {
     /// when they lie in this box. The default counts everything. Tiles set it to their core, so
     /// each piece of evidence is reported by exactly one tile; snapping itself is not affected.
     Region report_region;
+    /// Tiles of several plan leaves: the leaves' cores, disjoint half-open boxes whose union is
+    /// the tile's core (report_region is only their bounding box, which can reach into another
+    /// tile's core). The shared-boundary evidence (210) adds lengths over them, so that no piece
+    /// is counted by two tiles. Empty: report_region alone.
+    std::vector<Region> report_cores;
+    /// Tiles: the closed box that holds every real input vertex of the layer. Edges outside it
+    /// are a tile's detours round its box, not data: the shared-boundary evidence (210) ignores
+    /// them. The default holds everything.
+    Region data_extent;
     /// Tests: after the run, scan everything once more and count snapping events that would
     /// still apply (stats.fixpoint_misses; 0 when the engine's local re-discovery is complete).
     /// Costs one more full scan; off in normal runs.
@@ -107,12 +118,29 @@ struct SnapStats {
     SnapStats& operator+=(const SnapStats& other);
 };
 
+/// What one run saw of a boundary two polygon features share, as evidence for problem 210
+/// (shared_boundary_lost); each of the two features holds one, naming the other. A tiled run
+/// merges the tiles' records of a pair (detail::merge_shared_boundaries) before judging them.
+struct SharedBoundary {
+    std::int64_t other = 0;          ///< the other feature's id
+    std::uint64_t other_position = 0; ///< the other's position in snap()'s input (the stitch: its rank)
+    bool before = false;             ///< some input edge piece of both bounds both, meeting report_region
+    bool after = false;              ///< some output edge bounds both, its midpoint in report_region
+    double x = 0.0;                  ///< when `before`: the smallest (x, then y) point of those pieces
+    double y = 0.0;
+    double length = 0.0;             ///< the length of those pieces inside report_region
+    friend bool operator==(const SharedBoundary&, const SharedBoundary&) = default;
+};
+
 struct FeatureOutput {
     std::int64_t id = 0;
     Geometry geometry;              ///< Empty when the feature collapsed (then it has a problem)
     /// Largest move of any of its input vertices, or distance of a vertex now on one of its
     /// edges from that input edge: an upper bound of the output -> input drift along kept edges.
     double max_displacement = 0.0;
+    /// Polygons: the other polygons it shares (or shared) a boundary with, by id (problem 210's
+    /// evidence; snap() reports 210 itself when report_region holds everything).
+    std::vector<SharedBoundary> shared;
 };
 
 struct SnapResult {

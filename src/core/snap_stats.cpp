@@ -40,6 +40,11 @@ std::string validate(const SnapOptions& o)
     if (!(o.max_drift_factor > 0) || !std::isfinite(o.max_drift_factor)) return fmt("max_drift_factor must be finite and > 0", o.max_drift_factor);
     const Region& r = o.report_region;
     if (!(r.xmin < r.xmax && r.ymin < r.ymax)) return "report_region must have xmin < xmax and ymin < ymax";
+    for (const Region& c : o.report_cores) {
+        if (!(c.xmin < c.xmax && c.ymin < c.ymax)) return "report_cores must have xmin < xmax and ymin < ymax";
+    }
+    const Region& d = o.data_extent;
+    if (!(d.xmin <= d.xmax && d.ymin <= d.ymax)) return "data_extent must have xmin <= xmax and ymin <= ymax";
     return {};
 }
 

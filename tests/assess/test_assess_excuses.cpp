@@ -96,6 +96,21 @@ TEST(AssessExcuses, AThinPartCodeExcusesDriftAndTheLostBoundary)
     EXPECT_FALSE(collapse.contract_holds());
 }
 
+TEST(AssessExcuses, ALostBoundaryCodeExcusesTheGapAndNotTheDrift)
+{
+    // 2's output pulls back to x = 11: a new gap (and drift) between two features still written.
+    const std::vector<Item> in{{1, square(0, 0, 10)}, {2, square(10, 0, 10)}};
+    const std::vector<Item> out{{1, square(0, 0, 10)}, {2, "POLYGON((11 0,20 0,20 10,11 10,11 0))"}};
+    const AssessReport lost = with_report(in, out, 0.1, report_of({{2, 210, "shared_boundary_lost", {}}}));
+    EXPECT_EQ(lost.excused_counts.gaps, 1);
+    EXPECT_EQ(lost.excused_counts.drift, 0) << "210 says the boundary went, not how far the feature moved";
+    EXPECT_TRUE(mentions(lost.contract_failures(), "1 features drift > 2T"));
+    EXPECT_FALSE(mentions(lost.contract_failures(), "new gaps"));
+    const assess::Excuses e(report_of({{2, 210, "shared_boundary_lost", {}}}));
+    EXPECT_EQ(e.explain(Defect::gap, 1, 2), "210 shared_boundary_lost") << "on either feature of the pair";
+    EXPECT_EQ(e.explain(Defect::missing, 2), "");
+}
+
 TEST(AssessExcuses, ASeparationBreachIsExcusedOnlyWhereTheReportPlacesIt)
 {
     // Two squares 0.4 apart at T = 1: four vertices closer than T, four closer than T/2 to an edge.

@@ -23,7 +23,8 @@
 //  - n_overlaps_new: output polygon pairs overlapping with area > 1e-9 t^2 whose inputs did not;
 //  - n_shared_lost: input polygon pairs sharing > t/2 of boundary whose outputs share no
 //    boundary of positive length any more, or now overlap. Pairs where either output is empty
-//    (collapsed, and reported as a problem) are not counted.
+//    (collapsed, and reported as a problem) are not counted; a lost pair the engine reported
+//    (ContractRules::lost_boundary_codes) counts in n_shared_lost_reported instead.
 // Distances are searched up to 2t: when no pair is closer, the minimum is reported as +infinity.
 #include <gtest/gtest.h>
 
@@ -59,6 +60,10 @@ struct ContractRules {
     std::vector<int> drift_codes;
     /// At most this many output features may carry a drift code.
     std::size_t max_flagged = 0;
+    /// Codes that report a lost shared boundary (and nothing else): a pair whose boundary is lost
+    /// (not one that now overlaps) with such a code on either feature counts in
+    /// n_shared_lost_reported instead of n_shared_lost. Each case states how many it expects.
+    std::vector<int> lost_boundary_codes;
 };
 
 struct ContractReport {
@@ -71,6 +76,7 @@ struct ContractReport {
     std::size_t n_invalid = 0;
     std::size_t n_overlaps_new = 0;
     std::size_t n_shared_lost = 0;
+    std::size_t n_shared_lost_reported = 0; ///< lost, with a lost_boundary_codes problem on either
     std::size_t n_close_vertex_pairs = 0; ///< distinct vertex pairs closer than t
     std::size_t n_close_vertex_edge = 0;  ///< vertex-segment pairs closer than edge_factor*t
     double min_vertex_vertex = 0.0;       ///< +infinity when no pair is within 2t

@@ -25,4 +25,12 @@ inline bool is_not_written_code(int code)
     return std::find(codes.begin(), codes.end(), code) != codes.end();
 }
 
+/// Codes that report a lost shared boundary: 210 (shared_boundary_lost, on both features of the
+/// pair). They excuse nothing else (not drift, not an overlap).
+inline const std::vector<int>& lost_boundary_codes()
+{
+    static const std::vector<int> codes{210};
+    return codes;
+}
+
 } // namespace trisnap

@@ -76,6 +76,7 @@ ContractRules engine_rules(const SnapOptions& options, std::size_t max_flagged) 
     rules.edge_factor = options.edge_separation;
     rules.not_written_codes = not_written_codes();
     rules.drift_codes = drift_codes();
+    rules.lost_boundary_codes = lost_boundary_codes();
     rules.max_flagged = max_flagged;
     return rules;
 }

@@ -13,6 +13,8 @@
 
 #include <gtest/gtest.h>
 
+#include <tuple>
+
 namespace trisnap {
 namespace {
 
@@ -129,6 +131,18 @@ std::size_t same_piece(const stitch::Piece& a, const stitch::Piece& b)
     EXPECT_EQ(a.whole, b.whole);
     EXPECT_EQ(a.has_z, b.has_z);
     std::size_t compared = same_problems(a.problems, b.problems);
+    EXPECT_EQ(a.shared.size(), b.shared.size());
+    for (std::size_t i = 0; i < std::min(a.shared.size(), b.shared.size()); ++i) {
+        const SharedBoundary& x = a.shared[i];
+        const SharedBoundary& y = b.shared[i];
+        EXPECT_EQ(x.other, y.other);
+        EXPECT_EQ(x.other_position, y.other_position);
+        EXPECT_EQ(std::tie(x.before, x.after), std::tie(y.before, y.after));
+        EXPECT_EQ(bits(x.x), bits(y.x));
+        EXPECT_EQ(bits(x.y), bits(y.y));
+        EXPECT_EQ(bits(x.length), bits(y.length));
+        ++compared;
+    }
     compared += same_geometry(a.geometry, b.geometry);
     if (!a.whole) {
         compared += same_edges(a.edges, b.edges, a.has_z);
@@ -146,8 +160,10 @@ TEST(TileResultRecords, PiecesRoundTripBitForBit)
     whole.geometry = awkward_geometry(true);
     whole.problems = {Problem{-3, ProblemCode::not_converged, "a message", k_payload_nan, -0.0},
                       Problem{4, ProblemCode::self_intersection, "", 1e-300, 1e300}};
+    whole.shared = {SharedBoundary{-(1ll << 60), ~0ull, true, false, -0.0, k_payload_nan, 1e-300},
+                    SharedBoundary{5, 3, false, true, 0.0, 0.0, 0.0}};
     std::size_t compared = same_piece(whole, round_trip(whole, stitch::put_piece, stitch::get_piece));
-    EXPECT_EQ(compared, 2u + 15u);
+    EXPECT_EQ(compared, 2u + 2u + 15u);
     for (bool has_z : {true, false}) {
         stitch::Piece cut;
         cut.rank = 1ull << 50;

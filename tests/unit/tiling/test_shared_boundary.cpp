@@ -159,5 +159,29 @@ TEST(SharedBoundaryLost, ABoundaryShorterThanTheToleranceMayCollapse)
     }
 }
 
+// Stacked copies of one polygon would make the pairs quadratic in the copies: an edge bounding
+// more than k_max_stacked polygons gives no evidence. 2,000 copies and a neighbour: no pair
+// recorded on their edges (4 * 10^6 pairs otherwise), while a pair of 8 still is.
+TEST(SharedBoundaryLost, StackedCopiesGiveNoQuadraticEvidence)
+{
+    const double t = 0.1;
+    SnapOptions bounded = options_at(t);
+    bounded.report_region = Region{-100, -100, 100, 100};
+    for (const std::size_t copies : {std::size_t{2000}, detail::k_max_stacked - 1}) {
+        std::vector<Feature> in;
+        for (std::size_t k = 0; k < copies; ++k) {
+            in.push_back(polygon(static_cast<std::int64_t>(k), rect(0, 0, 10, 10)));
+        }
+        in.push_back(polygon(-1, rect(10, 0, 20, 10)));
+        const SnapResult r = snap(in, bounded);
+        std::size_t records = 0;
+        for (const FeatureOutput& f : r.features) {
+            records += f.shared.size();
+        }
+        EXPECT_EQ(records, copies > detail::k_max_stacked ? 0u : (copies + 1) * copies) << copies << " copies";
+        EXPECT_TRUE(with_code(snap(in, options_at(t)), ProblemCode::shared_boundary_lost).empty());
+    }
+}
+
 } // namespace
 } // namespace trisnap

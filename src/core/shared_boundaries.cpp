@@ -17,6 +17,9 @@ std::uint64_t pair_key(std::uint32_t a, std::uint32_t b) { return (std::uint64_t
 // one side of its line.
 bool segment_meets_closed(const Coord& p, const Coord& q, const Region& b)
 {
+    if (b.contains_closed(p.x, p.y) || b.contains_closed(q.x, q.y)) {
+        return true; // nearly every piece: an end inside
+    }
     const double x0 = std::max(b.xmin, std::min(p.x, q.x));
     const double x1 = std::min(b.xmax, std::max(p.x, q.x));
     const double y0 = std::max(b.ymin, std::min(p.y, q.y));
@@ -146,6 +149,9 @@ void SharedBoundaryEvidence::after(const Mesh& mesh)
     std::vector<FeatureCount> counts;
     std::vector<std::uint32_t> features;
     mesh.for_each_edge_with_owners([&](std::uint32_t u, std::uint32_t v, std::span<const OwnerRef> refs) {
+        if (refs.size() < 2) {
+            return; // bounds one polygon at most
+        }
         const VertexRecord& a = mesh.vertex(u);
         const VertexRecord& b = mesh.vertex(v);
         if (!a.alive || !b.alive) {

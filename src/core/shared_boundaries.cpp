@@ -123,7 +123,7 @@ void SharedBoundaryEvidence::before(const Mesh& mesh)
         const VertexRecord& b = mesh.vertex(v);
         const Coord p{a.x, a.y};
         const Coord q{b.x, b.y};
-        if (std::none_of(boxes.begin(), boxes.end(), [&](const Region& b) { return segment_meets_closed(p, q, b); })) {
+        if (std::none_of(boxes.begin(), boxes.end(), [&](const Region& box) { return segment_meets_closed(p, q, box); })) {
             return;
         }
         double length = 0.0;

@@ -21,7 +21,8 @@
 //    is the union of the edges whose midpoint lies in the tile's core);
 //  - length: the pieces' lengths inside the region (half-open: a point belongs to one tile) add up to
 //    the shared length, and a boundary shorter than t is not reported: its ends are closer
-//    than t, so snapping must merge them;
+//    than t, so snapping must merge them (the sums are in different orders tiled and untiled:
+//    a wall within a few ulps of t long could be judged differently);
 // A pair is lost when it is before somewhere, after nowhere, shared over at least t, and both
 // features are written (a feature that vanished has 201, which says more). The problem goes on
 // the later feature of the pair in input order, naming the earlier: a stitch that streams

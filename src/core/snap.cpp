@@ -133,7 +133,7 @@ void give_shared(const std::vector<CleanFeature>& clean, const detail::SharedBou
         written_at[clean[f].index] = written[f];
     }
     const auto other_written = [&](const SharedBoundary& s) { return written_at[s.other_position]; };
-    const auto name = [](std::int64_t other) { return "feature " + std::to_string(other); };
+    const auto name = [](std::int64_t other) { return "FID " + std::to_string(other); }; // as the stitch names it
     for (std::size_t f = 0; f < clean.size(); ++f) {
         if (everything) {
             detail::report_lost_boundaries(clean[f].id, clean[f].index, written[f], options.tolerance, seen[f],

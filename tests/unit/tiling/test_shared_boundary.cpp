@@ -58,7 +58,7 @@ TEST(SharedBoundaryLost, AChainOfCloseVerticesThatMergesToAPointIsReported)
     // (x, then y) of their wall.
     ASSERT_EQ(lost.size(), 1u) << run.report.summary();
     EXPECT_EQ(lost[0]->feature_id, 4005);
-    EXPECT_NE(lost[0]->message.find("feature 880"), std::string::npos) << lost[0]->message;
+    EXPECT_NE(lost[0]->message.find("FID 880"), std::string::npos) << lost[0]->message;
     EXPECT_EQ(lost[0]->x, 7.366805);
     EXPECT_EQ(lost[0]->y, 43.731925);
     // The input order decides which one carries it.
@@ -66,7 +66,7 @@ TEST(SharedBoundaryLost, AChainOfCloseVerticesThatMergesToAPointIsReported)
     const std::vector<const Problem*> other = with_code(swapped, ProblemCode::shared_boundary_lost);
     ASSERT_EQ(other.size(), 1u);
     EXPECT_EQ(other[0]->feature_id, 880);
-    EXPECT_NE(other[0]->message.find("feature 4005"), std::string::npos) << other[0]->message;
+    EXPECT_NE(other[0]->message.find("FID 4005"), std::string::npos) << other[0]->message;
     // The independent checker sees the loss, and sees it reported.
     EXPECT_EQ(run.report.n_shared_lost, 0u) << run.report.summary();
     EXPECT_EQ(run.report.n_shared_lost_reported, 1u) << run.report.summary();
@@ -91,7 +91,13 @@ TEST(SharedBoundaryLost, TilesCuttingTheWallReportWhatTheUntiledRunReports)
         const TiledRun run = tiled_and_check(in, o, tiles_of(size), 0);
         EXPECT_GT(run.tiled.stitch.leaves, 2u) << "the seams should cut the wall";
         EXPECT_EQ(problems_without_seams(untiled.problems), problems_without_seams(run.tiled.result.problems));
-        EXPECT_EQ(with_code(run.tiled.result, ProblemCode::shared_boundary_lost).size(), 1u);
+        const std::vector<const Problem*> lost = with_code(run.tiled.result, ProblemCode::shared_boundary_lost);
+        const std::vector<const Problem*> alone = with_code(untiled, ProblemCode::shared_boundary_lost);
+        ASSERT_EQ(lost.size(), 1u);
+        ASSERT_EQ(alone.size(), 1u);
+        EXPECT_EQ(lost[0]->message, alone[0]->message); // the same words, the same place
+        EXPECT_EQ(lost[0]->x, alone[0]->x);
+        EXPECT_EQ(lost[0]->y, alone[0]->y);
         EXPECT_TRUE(differing(untiled, run.tiled.result).empty());
         EXPECT_EQ(run.report.n_shared_lost, 0u) << run.report.summary();
         EXPECT_EQ(run.report.n_shared_lost_reported, 1u) << run.report.summary();

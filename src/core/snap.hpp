@@ -139,7 +139,8 @@ struct FeatureOutput {
     /// edges from that input edge: an upper bound of the output -> input drift along kept edges.
     double max_displacement = 0.0;
     /// Polygons: the other polygons it shares (or shared) a boundary with, by id (problem 210's
-    /// evidence; snap() reports 210 itself when report_region holds everything).
+    /// evidence, filled when report_region, report_cores or data_extent is set, as tiles do;
+    /// left at their defaults, snap() reports 210 itself and leaves this empty).
     std::vector<SharedBoundary> shared;
 };
 

@@ -132,20 +132,7 @@ private:
 
 bool segment_meets_box(const Coord& p, const Coord& q, const Box& b)
 {
-    if (std::max(p.x, q.x) < b.xmin || std::min(p.x, q.x) > b.xmax || std::max(p.y, q.y) < b.ymin ||
-        std::min(p.y, q.y) > b.ymax)
-        return false;
-    auto inside = [&](const Coord& c) { return b.xmin <= c.x && c.x <= b.xmax && b.ymin <= c.y && c.y <= b.ymax; };
-    if (inside(p) || inside(q)) return true;
-    // The segment's line separates no two corners exactly when the box misses it (exact signs).
-    bool pos = false;
-    bool neg = false;
-    for (const Coord corner : {Coord{b.xmin, b.ymin}, Coord{b.xmax, b.ymin}, Coord{b.xmax, b.ymax}, Coord{b.xmin, b.ymax}}) {
-        const int side = orientation(p, q, corner);
-        pos |= side >= 0;
-        neg |= side <= 0;
-    }
-    return pos && neg;
+    return trisnap::segment_meets_box(p, q, b.xmin, b.ymin, b.xmax, b.ymax);
 }
 
 Box detour_frame(const Box& extent, const Box& R)

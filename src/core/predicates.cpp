@@ -46,6 +46,29 @@ bool direction_less(const Coord& v, const Coord& a, const Coord& b)
     return orientation(v, a, b) > 0;
 }
 
+bool segment_meets_box(const Coord& p, const Coord& q, double xmin, double ymin, double xmax, double ymax)
+{
+    const double x0 = std::max(xmin, std::min(p.x, q.x));
+    const double x1 = std::min(xmax, std::max(p.x, q.x));
+    const double y0 = std::max(ymin, std::min(p.y, q.y));
+    const double y1 = std::min(ymax, std::max(p.y, q.y));
+    if (x0 > x1 || y0 > y1) {
+        return false; // the boxes miss each other
+    }
+    const auto inside = [&](const Coord& c) { return xmin <= c.x && c.x <= xmax && ymin <= c.y && c.y <= ymax; };
+    if (inside(p) || inside(q)) {
+        return true;
+    }
+    int left = 0;
+    int right = 0;
+    for (const Coord& c : {Coord{x0, y0}, Coord{x1, y0}, Coord{x0, y1}, Coord{x1, y1}}) {
+        const int o = orientation(p, q, c);
+        left += o > 0 ? 1 : 0;
+        right += o < 0 ? 1 : 0;
+    }
+    return left < 4 && right < 4;
+}
+
 // Decided by orientation signs only: an upward segment is crossed right of p when p lies to its
 // left, a downward one when p lies to its right.
 RayStep ray_step(const Coord& a, const Coord& b, const Coord& p)

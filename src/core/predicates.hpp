@@ -22,6 +22,12 @@ inline bool xy_less(const Coord& a, const Coord& b) { return a.x != b.x ? a.x < 
 /// measured from the positive x axis. Exact; equal directions compare equal.
 bool direction_less(const Coord& v, const Coord& a, const Coord& b);
 
+/// Whether the closed segment p-q meets the closed box [xmin, xmax] x [ymin, ymax] (sides may
+/// be infinite). Exact: the box is clipped to the segment's own bounding box, of which the
+/// segment is a diagonal, so it meets the clipped box unless all four corners lie strictly on
+/// one side of its line. Tile input cutting and the shared-boundary evidence both ask it.
+bool segment_meets_box(const Coord& p, const Coord& q, double xmin, double ymin, double xmax, double ymax);
+
 /// What the horizontal ray from `p` towards +x does at the segment a-b, with the half-open rule
 /// (the segment counts when exactly one end lies strictly above p): the step of a crossing
 /// number that stays exact at vertices and horizontal edges.

@@ -11,32 +11,6 @@ namespace {
 
 std::uint64_t pair_key(std::uint32_t a, std::uint32_t b) { return (std::uint64_t{a} << 32) | b; }
 
-// Whether the segment p-q meets the closed box b. Exact: the box is first clipped to the
-// segment's own bounding box (closed, so a segment along a side of b counts), and the segment is
-// the diagonal of that box, so it meets the clipped box unless all four corners lie strictly on
-// one side of its line.
-bool segment_meets_closed(const Coord& p, const Coord& q, const Region& b)
-{
-    if (b.contains_closed(p.x, p.y) || b.contains_closed(q.x, q.y)) {
-        return true; // nearly every piece: an end inside
-    }
-    const double x0 = std::max(b.xmin, std::min(p.x, q.x));
-    const double x1 = std::min(b.xmax, std::max(p.x, q.x));
-    const double y0 = std::max(b.ymin, std::min(p.y, q.y));
-    const double y1 = std::min(b.ymax, std::max(p.y, q.y));
-    if (x0 > x1 || y0 > y1) {
-        return false;
-    }
-    int left = 0;
-    int right = 0;
-    for (const Coord& c : {Coord{x0, y0}, Coord{x1, y0}, Coord{x0, y1}, Coord{x1, y1}}) {
-        const int o = orientation(p, q, c);
-        left += o > 0 ? 1 : 0;
-        right += o < 0 ? 1 : 0;
-    }
-    return left < 4 && right < 4;
-}
-
 // The length of the part of p-q inside the half-open box b: clipped to the closed box, less a
 // piece lying on b's upper or right side (those points belong to the next box), so the tiles'
 // lengths of one segment add up to its length (to rounding), none counted twice.
@@ -123,7 +97,9 @@ void SharedBoundaryEvidence::before(const Mesh& mesh)
         const VertexRecord& b = mesh.vertex(v);
         const Coord p{a.x, a.y};
         const Coord q{b.x, b.y};
-        if (std::none_of(boxes.begin(), boxes.end(), [&](const Region& box) { return segment_meets_closed(p, q, box); })) {
+        if (std::none_of(boxes.begin(), boxes.end(), [&](const Region& box) {
+                return segment_meets_box(p, q, box.xmin, box.ymin, box.xmax, box.ymax);
+            })) {
             return;
         }
         double length = 0.0;

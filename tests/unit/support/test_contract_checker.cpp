@@ -170,6 +170,24 @@ TEST(ContractChecker, SharedEdgeMovedApartIsLost) {
     EXPECT_FALSE(contract_holds(r, t));
 }
 
+// A loss the run reported with a lost-boundary code, on either feature of the pair, counts apart;
+// the code on another feature, or a loss that became an overlap, does not.
+TEST(ContractChecker, AReportedLostBoundaryCountsApart) {
+    ContractRules rules;
+    rules.lost_boundary_codes = {210};
+    const std::vector<CheckedFeature> apart{{1, box(0, 0, 10, 10)}, {2, box(10.5, 0, 20, 10)}};
+    const ContractReport said = check_contract(neighbours(), apart, {{2, 210}}, t, rules);
+    EXPECT_EQ(said.n_shared_lost, 0u) << said.summary();
+    EXPECT_EQ(said.n_shared_lost_reported, 1u);
+    const ContractReport elsewhere = check_contract(neighbours(), apart, {{3, 210}}, t, rules);
+    EXPECT_EQ(elsewhere.n_shared_lost, 1u);
+    EXPECT_EQ(elsewhere.n_shared_lost_reported, 0u);
+    const std::vector<CheckedFeature> overlap{{1, box(0, 0, 10, 10)}, {2, box(9, 0, 19, 10)}};
+    const ContractReport overlapping = check_contract(neighbours(), overlap, {{1, 210}}, t, rules);
+    EXPECT_EQ(overlapping.n_shared_lost, 1u) << "210 says the boundary went, not that they overlap";
+    EXPECT_EQ(overlapping.n_shared_lost_reported, 0u);
+}
+
 TEST(ContractChecker, OverlappingOutputsAreNew) {
     const ContractReport r =
         check_contract(neighbours(), {{1, box(0, 0, 10, 10)}, {2, box(9, 0, 19, 10)}}, t);

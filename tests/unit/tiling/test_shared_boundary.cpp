@@ -127,6 +127,7 @@ TEST(SharedBoundaryLost, ANeighbourThatCollapsedIsNotALostBoundary)
         EXPECT_EQ(with_code(r, ProblemCode::collapsed_polygon).size(), 1u);
         EXPECT_TRUE(with_code(r, ProblemCode::shared_boundary_lost).empty());
         const TiledRun tiled = tiled_and_check(in, options_at(t), tiles_of(3), 1);
+        EXPECT_GT(tiled.tiled.stitch.leaves, 1u) << "the case should cut the layer";
         EXPECT_EQ(problems_without_seams(r.problems), problems_without_seams(tiled.tiled.result.problems));
         // the evidence a tile gives: the pair lost its boundary (only the collapse excuses it)
         SnapOptions bounded = options_at(t);

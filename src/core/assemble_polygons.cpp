@@ -292,6 +292,15 @@ std::size_t PolygonAssembler::holder_of(const Loop& hole)
     return best;
 }
 
+// A copy of a loop with room for the closing point close_and_sort() adds.
+Path closable(const std::vector<Coord>& pts)
+{
+    Path ring;
+    ring.reserve(pts.size() + 1);
+    ring.assign(pts.begin(), pts.end());
+    return ring;
+}
+
 Geometry PolygonAssembler::run(std::vector<Polygon> finished)
 {
     Geometry g;
@@ -307,7 +316,7 @@ Geometry PolygonAssembler::run(std::vector<Polygon> finished)
     for (std::size_t k = 0; k < m_loops.size(); ++k) {
         if (m_loops[k].shell) {
             polygon_of[k] = g.polygons.size();
-            g.polygons.push_back(Polygon{{m_loops[k].pts}});
+            g.polygons.push_back(Polygon{{closable(m_loops[k].pts)}});
         }
     }
     for (const Loop& hole : m_loops) {
@@ -316,7 +325,7 @@ Geometry PolygonAssembler::run(std::vector<Polygon> finished)
         }
         const std::size_t holder = holder_of(hole);
         if (holder != k_none) {
-            g.polygons[polygon_of[holder]].rings.push_back(hole.pts);
+            g.polygons[polygon_of[holder]].rings.push_back(closable(hole.pts));
         }
     }
     detail::close_and_sort(g);

@@ -184,6 +184,13 @@ public:
     /// The owners of edges vertex v was split into, once per split (and those of the vertices
     /// merged into it).
     const std::vector<std::uint32_t>& snapped_into(std::uint32_t v) const;
+    /// Frees the searches' per-vertex scratch (12 bytes a vertex) once no more searches are
+    /// coming (after the snapper); a later search would allocate it again.
+    void release_search_scratch()
+    {
+        std::vector<std::uint32_t>().swap(m_vertex_stamp);
+        std::vector<double>().swap(m_vertex_d2);
+    }
 
 private:
     struct Job {
@@ -253,6 +260,7 @@ private:
         }
     }
     std::uint32_t next_stamp();
+    void ensure_search_scratch();
 
     cdt::Triangulation m_tri;
     std::vector<VertexRecord> m_vertices;
@@ -262,6 +270,8 @@ private:
     std::vector<Owner> m_owners;
     EdgeOwners m_edge_owners;
     std::vector<std::vector<std::uint32_t>> m_input_ids;
+    // The searches' scratch, one slot per vertex, sized by them (ensure_search_scratch) and
+    // dropped when the snapper is done (release_search_scratch).
     std::vector<std::uint32_t> m_vertex_stamp;
     std::vector<double> m_vertex_d2; ///< a search's squared distance of each vertex it stamped
     std::uint32_t m_stamp = 0;

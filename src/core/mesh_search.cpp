@@ -111,6 +111,20 @@ std::uint32_t Mesh::next_stamp()
     return m_stamp;
 }
 
+void Mesh::ensure_search_scratch()
+{
+    const std::size_t n = m_vertices.size();
+    if (m_vertex_stamp.size() >= n) {
+        return;
+    }
+    if (m_vertex_stamp.capacity() < n) { // by an eighth, as the vertex records grow
+        m_vertex_stamp.reserve(n + n / 8 + 256);
+        m_vertex_d2.reserve(n + n / 8 + 256);
+    }
+    m_vertex_stamp.resize(n, 0u); // 0: older than every stamp handed out
+    m_vertex_d2.resize(n, 0.0);
+}
+
 void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
                         std::vector<std::pair<double, std::uint32_t>>& vertices, std::vector<EdgeHit>& edges,
                         bool nearest_only, const std::unordered_set<std::uint64_t>* passed_over)
@@ -120,6 +134,7 @@ void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
     if (m_tri.dimension() < 2) {
         return;
     }
+    ensure_search_scratch();
     const std::uint32_t stamp = next_stamp();
     const VertexRecord& rv = m_vertices[v];
     double reach2 = std::max(r2_vertex, r2_edge);
@@ -216,6 +231,7 @@ void Mesh::search_segment(std::uint32_t b, std::uint32_t c, double r2,
     if (m_tri.dimension() < 2) {
         return;
     }
+    ensure_search_scratch();
     const std::uint32_t stamp = next_stamp();
     const VertexRecord& rb = m_vertices[b];
     const VertexRecord& rc = m_vertices[c];

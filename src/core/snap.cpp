@@ -144,7 +144,8 @@ void give_shared(const std::vector<CleanFeature>& clean, const detail::SharedBou
     }
 }
 
-void extract_all(Context& c, const detail::FaceLabels& labels)
+// Each feature's face list is freed once its polygons are out: the outputs grow as they go.
+void extract_all(Context& c, detail::FaceLabels& labels)
 {
     const std::vector<double> deviation = detail::edge_deviation(c.mesh, c.clean, c.options.report_region);
     auto lines = detail::collect_line_edges(c.mesh, c.clean.size());
@@ -157,6 +158,7 @@ void extract_all(Context& c, const detail::FaceLabels& labels)
         const detail::ExtractOptions eo{c.grid, has_z};
         if (cf.polygonal) {
             out.geometry = detail::extract_polygons(c.mesh, labels.faces_of[f], eo);
+            std::vector<cdt::Face_handle>().swap(labels.faces_of[f]);
         } else {
             std::vector<Coord> starts;
             for (const auto& l : cf.lines) {
@@ -247,6 +249,7 @@ SnapResult snap_features(const std::vector<Feature>& features, const SnapOptions
     shared.before(mesh);
     st.seconds_triangulate = clock.lap();
     const detail::SnapperOutcome outcome = detail::run_snapper(mesh, params, &meter);
+    mesh.release_search_scratch();
     st.merges = outcome.merges;
     st.splits = outcome.splits;
     st.rounds = outcome.rounds;
@@ -254,7 +257,7 @@ SnapResult snap_features(const std::vector<Feature>& features, const SnapOptions
     st.fixpoint_misses = outcome.fixpoint_misses;
     st.seconds_snap = clock.lap();
     meter.begin(detail::WorkMeter::Step::labelling);
-    const detail::FaceLabels labels = detail::label_faces(mesh, clean.size());
+    detail::FaceLabels labels = detail::label_faces(mesh, clean.size());
     st.seconds_label = clock.lap();
     meter.begin(detail::WorkMeter::Step::extraction);
     // Rounding to the grid keeps the output valid only at the fix-point, where every vertex is

@@ -117,9 +117,9 @@ void Mesh::ensure_search_scratch()
     if (m_vertex_stamp.size() >= n) {
         return;
     }
-    if (m_vertex_stamp.capacity() < n) { // by an eighth, as the vertex records grow
-        m_vertex_stamp.reserve(n + n / 8 + 256);
-        m_vertex_d2.reserve(n + n / 8 + 256);
+    if (m_vertex_stamp.capacity() == 0) { // the room the vertex records have (insert_points)
+        m_vertex_stamp.reserve(n + n / 32 + 256);
+        m_vertex_d2.reserve(n + n / 32 + 256);
     }
     m_vertex_stamp.resize(n, 0u); // 0: older than every stamp handed out
     m_vertex_d2.resize(n, 0.0);

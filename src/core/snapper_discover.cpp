@@ -95,10 +95,8 @@ void Snapper::discover_point(std::uint32_t v, bool every_pair)
 // Returns whether there was one.
 bool Snapper::register_nearest(std::uint32_t v)
 {
-    if (m_candidate.size() <= v) { // grown by an eighth, as the mesh's vertex records
-        const std::size_t n = m_mesh.vertex_slots();
-        if (m_candidate.capacity() < n) m_candidate.reserve(n + n / 8 + 256);
-        m_candidate.resize(n);
+    if (m_candidate.size() <= v) {
+        m_candidate.resize(m_mesh.vertex_slots());
     }
     m_candidate[v] = MergeCandidate{};
     bool found = false;

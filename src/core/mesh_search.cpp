@@ -101,7 +101,7 @@ void Mesh::set_long_edge_length2(double len2)
 
 std::uint32_t Mesh::next_stamp()
 {
-    if (++m_stamp == 0) { // wrapped: clear every mark once
+    if (++m_stamp == cdt::k_stamp_limit) { // wrapped: clear every mark once
         for (auto f : m_tri.all_face_handles()) {
             f->info().stamp = 0;
         }

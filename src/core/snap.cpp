@@ -144,7 +144,8 @@ void give_shared(const std::vector<CleanFeature>& clean, const detail::SharedBou
     }
 }
 
-// Each feature's face list is freed once its polygons are out: the outputs grow as they go.
+// Each feature's face list and cleaned input are freed once its output is made: the outputs
+// grow as they go. From here on a CleanFeature keeps its id, index and counts only.
 void extract_all(Context& c, detail::FaceLabels& labels)
 {
     const std::vector<double> deviation = detail::edge_deviation(c.mesh, c.clean, c.options.report_region);
@@ -170,6 +171,10 @@ void extract_all(Context& c, detail::FaceLabels& labels)
         out.max_displacement = std::max(feature_displacement(c, f), deviation[f]);
         c.result.stats.max_displacement = std::max(c.result.stats.max_displacement, out.max_displacement);
         report_outcome(c, f, out.geometry, out.max_displacement);
+        // Its input coordinates are not needed past here (what follows reads ids and positions):
+        // freed as the outputs grow, so the two copies of the layer never coexist whole.
+        std::vector<detail::CleanRing>().swap(c.clean[f].rings);
+        std::vector<std::vector<Coord>>().swap(c.clean[f].lines);
         if ((f & 255) == 255) c.meter.advance(f, c.clean.size());
     }
 }

@@ -2,7 +2,9 @@
 // at crossings and at vertices lying on it by insert_segment, mesh_insert.cpp).
 #include "core/mesh.hpp"
 
+#include <CGAL/Spatial_sort_traits_adapter_2.h>
 #include <CGAL/spatial_sort.h>
+#include <boost/property_map/property_map.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -29,7 +31,13 @@ bool xy_less(const InputPoint& a, const InputPoint& b)
 std::vector<InputPoint> gather_points(const std::vector<CleanFeature>& features,
                                       std::vector<std::vector<std::uint32_t>>& input_ids)
 {
+    std::size_t n = 0;
+    for (const CleanFeature& cf : features) {
+        for (const CleanRing& r : cf.rings) n += r.points.size();
+        for (const auto& l : cf.lines) n += l.size();
+    }
     std::vector<InputPoint> pts;
+    pts.reserve(n);
     input_ids.resize(features.size());
     for (std::uint32_t f = 0; f < features.size(); ++f) {
         std::uint32_t slot = 0;
@@ -88,62 +96,75 @@ std::vector<std::pair<cdt::Point, std::uint32_t>> frame_points(const std::vector
     return out;
 }
 
+// The point of vertex record i, for CGAL's spatial sort of record ids.
+struct RecordPoints {
+    using key_type = std::uint32_t;
+    using value_type = cdt::Point;
+    using reference = cdt::Point;
+    using category = boost::readable_property_map_tag;
+    const std::vector<VertexRecord>* records;
+    friend cdt::Point get(const RecordPoints& m, std::uint32_t i) { return {(*m.records)[i].x, (*m.records)[i].y}; }
+};
+
 void Mesh::insert_points(const std::vector<CleanFeature>& features, double reach, WorkMeter* meter)
 {
     if (meter) meter->begin(WorkMeter::Step::points);
-    const std::vector<InputPoint> pts = gather_points(features, m_input_ids);
-    std::vector<std::pair<cdt::Point, std::uint32_t>> unique;
-    std::vector<double> zs;
-    for (std::size_t i = 0; i < pts.size();) {
-        std::size_t j = i;
-        while (j < pts.size() && pts[j].x == pts[i].x && pts[j].y == pts[i].y) ++j;
-        const auto id = static_cast<std::uint32_t>(unique.size());
-        for (std::size_t k = i; k < j; ++k) m_input_ids[pts[k].feature][pts[k].slot] = id;
-        unique.emplace_back(cdt::Point(pts[i].x, pts[i].y), id);
-        zs.push_back(mean_z(pts.begin() + i, pts.begin() + j));
-        i = j;
+    std::vector<InputPoint> pts = gather_points(features, m_input_ids);
+    std::size_t distinct = 0;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        distinct += i == 0 || pts[i].x != pts[i - 1].x || pts[i].y != pts[i - 1].y ? 1 : 0;
     }
-    m_input_points = static_cast<std::uint32_t>(unique.size());
-    for (const auto& corner : frame_points(pts, reach, static_cast<std::uint32_t>(unique.size()))) {
-        unique.push_back(corner);
-        zs.push_back(std::nan(""));
-    }
-    std::vector<cdt::Vertex_handle> handles(unique.size());
-    auto order = unique;
-    CGAL::spatial_sort(order.begin(), order.end(),
-                       CGAL::Spatial_sort_traits_adapter_2<cdt::Kernel,
-                           CGAL::First_of_pair_property_map<std::pair<cdt::Point, std::uint32_t>>>());
-    cdt::Face_handle hint;
-    std::size_t inserted = 0;
-    for (const auto& [p, id] : order) {
-        handles[id] = m_tri.insert(p, hint);
-        hint = handles[id]->face();
-        if (meter && (++inserted & 1023) == 0) meter->advance(inserted, order.size());
-    }
+    // The records are filled straight from the sorted points, which go before CGAL's vertices
+    // and faces are made (the build's copies of the points peaked above the snapper's tables).
     // A few per cent of room for the vertices crossings and edits add: the vectors would
     // otherwise double at the first one (Andorra x43 untiled: 1.6 M records, 100 MB unused).
     // Past that room they double: growing by less left more freed blocks behind in the heap,
     // which the process keeps (src/app/allocator.hpp): Natural Earth land at 2 km, 150 k
     // merges, peaked 45 MB higher growing by an eighth.
-    const std::size_t room = unique.size() + unique.size() / 32 + 256;
+    const std::size_t total = distinct + frame_vertices;
+    const std::size_t room = total + total / 32 + 256;
     m_vertices.reserve(room);
     m_forward.reserve(room);
-    m_vertices.resize(unique.size());
-    for (std::uint32_t id = 0; id < unique.size(); ++id) {
-        handles[id]->info().id = id;
+    m_vertices.resize(total);
+    std::uint32_t id = 0;
+    for (std::size_t i = 0; i < pts.size(); ++id) {
+        std::size_t j = i;
+        while (j < pts.size() && pts[j].x == pts[i].x && pts[j].y == pts[i].y) ++j;
+        for (std::size_t k = i; k < j; ++k) m_input_ids[pts[k].feature][pts[k].slot] = id;
         VertexRecord& r = m_vertices[id];
-        r.handle = handles[id];
-        r.x = CGAL::to_double(unique[id].first.x());
-        r.y = CGAL::to_double(unique[id].first.y());
-        r.z = zs[id];
+        r.x = pts[i].x;
+        r.y = pts[i].y;
+        r.z = mean_z(pts.begin() + i, pts.begin() + j);
+        i = j;
+    }
+    m_input_points = id;
+    for (const auto& [p, corner] : frame_points(pts, reach, id)) {
+        VertexRecord& r = m_vertices[corner];
+        r.x = p.x();
+        r.y = p.y();
+        r.z = std::nan("");
+    }
+    std::vector<InputPoint>().swap(pts);
+    std::vector<std::uint32_t> order(total);
+    std::iota(order.begin(), order.end(), 0u);
+    CGAL::spatial_sort(order.begin(), order.end(),
+                       CGAL::Spatial_sort_traits_adapter_2<cdt::Kernel, RecordPoints>(RecordPoints{&m_vertices}));
+    cdt::Face_handle hint;
+    std::size_t inserted = 0;
+    for (const std::uint32_t v : order) {
+        VertexRecord& r = m_vertices[v];
+        r.handle = m_tri.insert(cdt::Point(r.x, r.y), hint);
+        r.handle->info().id = v;
+        hint = r.handle->face();
+        if (meter && (++inserted & 1023) == 0) meter->advance(inserted, order.size());
     }
     // Every later vertex lies inside the frame, so its corners bound the coordinates' size.
     double largest = 0;
-    for (const auto& [p, id] : unique) {
-        largest = std::max({largest, std::abs(CGAL::to_double(p.x())), std::abs(CGAL::to_double(p.y()))});
+    for (const VertexRecord& r : m_vertices) {
+        largest = std::max({largest, std::abs(r.x), std::abs(r.y)});
     }
     m_ulp_margin = 64 * (std::nextafter(largest, std::numeric_limits<double>::infinity()) - largest);
-    m_forward.assign(unique.size(), cdt::k_no_id);
+    m_forward.assign(total, cdt::k_no_id);
 }
 
 // Features are inserted in (id, index) order so crossings are found in an order that does not

@@ -107,7 +107,10 @@ public:
     /// A stamp no face or vertex carries yet, for marking sets of faces.
     std::uint32_t fresh_stamp() { return next_stamp(); }
     /// Vertex id of each input point, per feature, rings first then lines, in input order.
-    const std::vector<std::uint32_t>& input_vertices(std::size_t feature) const { return m_input_ids[feature]; }
+    std::span<const std::uint32_t> input_vertices(std::size_t feature) const
+    {
+        return {m_input_ids.data() + m_input_first[feature], m_input_first[feature + 1] - m_input_first[feature]};
+    }
     /// Where an input vertex is now (follows merges).
     std::uint32_t current(std::uint32_t id);
 
@@ -269,7 +272,10 @@ private:
     std::vector<std::uint32_t> m_forward;
     std::vector<Owner> m_owners;
     EdgeOwners m_edge_owners;
-    std::vector<std::vector<std::uint32_t>> m_input_ids;
+    /// input_vertices() of every feature, one after another (a vector per feature held ~7 MB more
+    /// on Andorra x43); feature f's start at m_input_first[f].
+    std::vector<std::uint32_t> m_input_ids;
+    std::vector<std::size_t> m_input_first;
     // The searches' scratch, one slot per vertex, sized by them (ensure_search_scratch) and
     // dropped when the snapper is done (release_search_scratch).
     std::vector<std::uint32_t> m_vertex_stamp;

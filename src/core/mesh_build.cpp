@@ -17,8 +17,7 @@ namespace {
 
 struct InputPoint {
     double x, y, z;
-    std::uint32_t feature; ///< index into CleanFeature vector
-    std::uint32_t slot;    ///< position in the feature's input_vertices list
+    std::size_t at; ///< its place in Mesh::m_input_ids (features in order, rings then lines)
 };
 
 bool xy_less(const InputPoint& a, const InputPoint& b)
@@ -29,7 +28,7 @@ bool xy_less(const InputPoint& a, const InputPoint& b)
 }
 
 std::vector<InputPoint> gather_points(const std::vector<CleanFeature>& features,
-                                      std::vector<std::vector<std::uint32_t>>& input_ids)
+                                      std::vector<std::uint32_t>& input_ids, std::vector<std::size_t>& first)
 {
     std::size_t n = 0;
     for (const CleanFeature& cf : features) {
@@ -38,14 +37,15 @@ std::vector<InputPoint> gather_points(const std::vector<CleanFeature>& features,
     }
     std::vector<InputPoint> pts;
     pts.reserve(n);
-    input_ids.resize(features.size());
-    for (std::uint32_t f = 0; f < features.size(); ++f) {
-        std::uint32_t slot = 0;
-        auto add = [&](const Coord& c) { pts.push_back({c.x, c.y, c.z, f, slot++}); };
-        for (const CleanRing& r : features[f].rings) std::for_each(r.points.begin(), r.points.end(), add);
-        for (const auto& l : features[f].lines) std::for_each(l.begin(), l.end(), add);
-        input_ids[f].assign(slot, cdt::k_no_id);
+    first.assign(1, 0);
+    first.reserve(features.size() + 1);
+    for (const CleanFeature& cf : features) {
+        auto add = [&](const Coord& c) { pts.push_back({c.x, c.y, c.z, pts.size()}); };
+        for (const CleanRing& r : cf.rings) std::for_each(r.points.begin(), r.points.end(), add);
+        for (const auto& l : cf.lines) std::for_each(l.begin(), l.end(), add);
+        first.push_back(pts.size());
     }
+    input_ids.assign(pts.size(), cdt::k_no_id);
     std::sort(pts.begin(), pts.end(), xy_less);
     return pts;
 }
@@ -109,7 +109,7 @@ struct RecordPoints {
 void Mesh::insert_points(const std::vector<CleanFeature>& features, double reach, WorkMeter* meter)
 {
     if (meter) meter->begin(WorkMeter::Step::points);
-    std::vector<InputPoint> pts = gather_points(features, m_input_ids);
+    std::vector<InputPoint> pts = gather_points(features, m_input_ids, m_input_first);
     std::size_t distinct = 0;
     for (std::size_t i = 0; i < pts.size(); ++i) {
         distinct += i == 0 || pts[i].x != pts[i - 1].x || pts[i].y != pts[i - 1].y ? 1 : 0;
@@ -130,7 +130,7 @@ void Mesh::insert_points(const std::vector<CleanFeature>& features, double reach
     for (std::size_t i = 0; i < pts.size(); ++id) {
         std::size_t j = i;
         while (j < pts.size() && pts[j].x == pts[i].x && pts[j].y == pts[i].y) ++j;
-        for (std::size_t k = i; k < j; ++k) m_input_ids[pts[k].feature][pts[k].slot] = id;
+        for (std::size_t k = i; k < j; ++k) m_input_ids[pts[k].at] = id;
         VertexRecord& r = m_vertices[id];
         r.x = pts[i].x;
         r.y = pts[i].y;
@@ -172,8 +172,7 @@ void Mesh::insert_points(const std::vector<CleanFeature>& features, double reach
 void Mesh::insert_constraints(const std::vector<CleanFeature>& features, WorkMeter* meter)
 {
     if (meter) meter->begin(WorkMeter::Step::constraints);
-    std::size_t total_edges = 0;
-    for (const std::vector<std::uint32_t>& ids : m_input_ids) total_edges += ids.size();
+    const std::size_t total_edges = m_input_ids.size(); // at most one per input point
     std::size_t edges_done = 0;
     m_owners.reserve(total_edges); // one per input edge, added here only
     std::vector<std::uint32_t> order(features.size());
@@ -182,7 +181,7 @@ void Mesh::insert_constraints(const std::vector<CleanFeature>& features, WorkMet
         return features[a].id != features[b].id ? features[a].id < features[b].id : a < b;
     });
     for (std::uint32_t f : order) {
-        const std::vector<std::uint32_t>& ids = m_input_ids[f];
+        const std::span<const std::uint32_t> ids = input_vertices(f);
         std::size_t base = 0;
         auto add_path = [&](std::size_t n, std::uint32_t part, bool closed, bool line) {
             const std::size_t edges = closed ? n : n - 1;

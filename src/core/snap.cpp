@@ -73,7 +73,7 @@ struct Context {
 
 double feature_displacement(Context& c, std::size_t f)
 {
-    const std::vector<std::uint32_t>& ids = c.mesh.input_vertices(f);
+    const std::span<const std::uint32_t> ids = c.mesh.input_vertices(f);
     double worst = 0;
     std::size_t k = 0;
     auto visit = [&](const Coord& p) {

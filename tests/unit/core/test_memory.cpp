@@ -60,6 +60,37 @@ TEST(EngineMemory, SearchesAfterTheScratchIsReleasedFindTheSame)
     EXPECT_EQ(out.fixpoint_misses, 0u);
 }
 
+// A face keeps its stamp in 31 bits (a 64-byte face): the counter wraps at 2^31 and clears every
+// mark. Searches on both sides of the wrap find what they find far from it; with the wrap at
+// 2^32 a stored stamp would lose its top bit and never match, and the walks would revisit faces.
+TEST(EngineMemory, SearchesAcrossTheStampWrapFindTheSame)
+{
+    const double t = 0.05;
+    const std::vector<Feature> in = near_degenerate_polygons(20, 5.0, t, 3);
+    std::vector<Problem> problems;
+    const std::vector<detail::CleanFeature> clean = detail::clean_input(in, t, problems);
+    detail::Mesh mesh(clean, t);
+    const auto n = static_cast<std::uint32_t>(mesh.vertex_slots());
+    ASSERT_GT(n, 100u);
+    const double r2 = 16 * t * t;
+    std::vector<std::vector<std::pair<double, std::uint32_t>>> before;
+    for (std::uint32_t v = 0; v < n; ++v) {
+        before.push_back(near_sorted(mesh, v, r2));
+    }
+    mesh.set_stamps_used(cdt::k_stamp_limit - n / 2); // the wrap falls halfway through
+    std::size_t faces = mesh.faces_walked();
+    for (std::uint32_t v = 0; v < n; ++v) {
+        EXPECT_EQ(near_sorted(mesh, v, r2), before[v]) << "vertex " << v;
+    }
+    EXPECT_LT(mesh.stamps_used(), n) << "the counter must have wrapped";
+    const std::size_t across = mesh.faces_walked() - faces;
+    faces = mesh.faces_walked();
+    for (std::uint32_t v = 0; v < n; ++v) {
+        near_sorted(mesh, v, r2);
+    }
+    EXPECT_EQ(across, mesh.faces_walked() - faces) << "the walks across the wrap visit each face once, as far from it";
+}
+
 // Every output ring's allocation is its size: the closing point had room made for it.
 TEST(EngineMemory, OutputRingsHoldNoSpareCapacity)
 {

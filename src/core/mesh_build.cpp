@@ -120,7 +120,7 @@ void Mesh::insert_points(const std::vector<CleanFeature>& features, double reach
     // otherwise double at the first one (Andorra x43 untiled: 1.6 M records, 100 MB unused).
     // Past that room they double: growing by less left more freed blocks behind in the heap,
     // which the process keeps (src/app/allocator.hpp): Natural Earth land at 2 km, 150 k
-    // merges, peaked 45 MB higher growing by an eighth.
+    // merges, peaked 41 MiB higher growing by an eighth.
     const std::size_t total = distinct + frame_vertices;
     const std::size_t room = total + total / 32 + 256;
     m_vertices.reserve(room);

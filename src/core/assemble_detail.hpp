@@ -69,10 +69,7 @@ inline void close_and_sort(Geometry& g)
 {
     for (Polygon& p : g.polygons) {
         for (Path& ring : p.rings) {
-            if (ring.size() == ring.capacity()) {
-                ring.reserve(ring.size() + 1); // not double: the output's rings are most of its memory
-            }
-            ring.push_back(ring.front());
+            ring.push_back(ring.front()); // the assembler made room for it (closable())
         }
     }
     sort_canonical(g.polygons);

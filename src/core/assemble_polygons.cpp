@@ -316,7 +316,8 @@ Geometry PolygonAssembler::run(std::vector<Polygon> finished)
     for (std::size_t k = 0; k < m_loops.size(); ++k) {
         if (m_loops[k].shell) {
             polygon_of[k] = g.polygons.size();
-            g.polygons.push_back(Polygon{{closable(m_loops[k].pts)}});
+            // Moved in: Polygon{{...}} would copy it through an initializer_list, at its size.
+            g.polygons.emplace_back().rings.push_back(closable(m_loops[k].pts));
         }
     }
     for (const Loop& hole : m_loops) {

@@ -5,9 +5,8 @@
 // large-t run within 10x of the small-t run of the same input) lives in bench/adversarial.
 #include "snap_harness.hpp"
 
-#include "core/mesh.hpp"
-#include "core/snapper.hpp"
 #include "generators.hpp"
+#include "mesh_harness.hpp"
 
 #include <gtest/gtest.h>
 
@@ -42,18 +41,6 @@ const AdversarialCase& find_case(const std::vector<AdversarialCase>& cases, cons
         }
     }
     throw std::runtime_error("no adversarial case " + name);
-}
-
-// The snapper on a mesh the test holds (to read its counters), with the engine's thresholds at
-// t (edge and sliver t/2, no margins), its operation cap, and the fix-point verified.
-detail::SnapperOutcome run_snapper_at(detail::Mesh& mesh, double t) {
-    detail::SnapperParams params;
-    params.vertex_threshold = t;
-    params.edge_threshold = t / 2;
-    params.sliver_threshold = t / 2;
-    params.max_operations = 20 * mesh.vertex_slots() + 1000;
-    params.verify = true;
-    return detail::run_snapper(mesh, params);
 }
 
 class AdversarialSlow : public ::testing::TestWithParam<const char*> {};

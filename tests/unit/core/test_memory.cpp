@@ -4,9 +4,8 @@
 // Peak memory itself is measured by bench_pipeline (peak_mb) and bench/estimates, not here.
 #include "snap_harness.hpp"
 
-#include "core/mesh.hpp"
-#include "core/snapper.hpp"
 #include "generators.hpp"
+#include "mesh_harness.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,46 +14,55 @@
 namespace trisnap {
 namespace {
 
-std::vector<std::pair<double, std::uint32_t>> near_sorted(detail::Mesh& mesh, std::uint32_t v, double r2)
-{
-    std::vector<std::pair<double, std::uint32_t>> vertices;
-    std::vector<detail::EdgeHit> edges;
-    mesh.search_point(v, r2, r2 / 4, vertices, edges);
-    std::sort(vertices.begin(), vertices.end());
-    return vertices;
-}
+using Near = std::vector<std::pair<double, std::uint32_t>>;
+
+// A mesh of near-degenerate polygons at t and, for every vertex, the vertices a search within
+// 4t finds (sorted), searched once before the test does anything to the mesh.
+struct SearchedMesh {
+    static constexpr double t = 0.05;
+    static constexpr double r2 = 16 * t * t;
+    std::vector<detail::CleanFeature> clean;
+    detail::Mesh mesh;
+    std::vector<Near> before;
+
+    SearchedMesh(int polygons, double scale, std::uint64_t seed)
+        : clean(cleaned(near_degenerate_polygons(polygons, scale, t, seed))), mesh(clean, t)
+    {
+        for (std::uint32_t v = 0; v < vertices(); ++v) {
+            before.push_back(search(v));
+        }
+    }
+    std::uint32_t vertices() const { return static_cast<std::uint32_t>(mesh.vertex_slots()); }
+    Near search(std::uint32_t v)
+    {
+        Near near;
+        std::vector<detail::EdgeHit> edges;
+        mesh.search_point(v, r2, r2 / 4, near, edges);
+        std::sort(near.begin(), near.end());
+        return near;
+    }
+    static std::vector<detail::CleanFeature> cleaned(const std::vector<Feature>& in)
+    {
+        std::vector<Problem> problems;
+        return detail::clean_input(in, t, problems);
+    }
+};
 
 // A search after release_search_scratch() allocates the scratch again and finds what it found
 // before, for every vertex; the snapper then runs on the same mesh to its verified fix-point.
 TEST(EngineMemory, SearchesAfterTheScratchIsReleasedFindTheSame)
 {
-    const double t = 0.05;
-    const std::vector<Feature> in = near_degenerate_polygons(40, 10.0, t, 11);
-    std::vector<Problem> problems;
-    const std::vector<detail::CleanFeature> clean = detail::clean_input(in, t, problems);
-    detail::Mesh mesh(clean, t);
-    const auto n = static_cast<std::uint32_t>(mesh.vertex_slots());
-    ASSERT_GT(n, 200u);
-    const double r2 = 16 * t * t;
-    std::vector<std::vector<std::pair<double, std::uint32_t>>> before;
+    SearchedMesh m(40, 10.0, 11);
+    ASSERT_GT(m.vertices(), 200u);
     std::size_t found = 0;
-    for (std::uint32_t v = 0; v < n; ++v) {
-        before.push_back(near_sorted(mesh, v, r2));
-        found += before.back().size();
+    for (const Near& near : m.before) found += near.size();
+    EXPECT_GT(found, m.vertices()) << "the radius must reach neighbours";
+    m.mesh.release_search_scratch();
+    for (std::uint32_t v = 0; v < m.vertices(); ++v) {
+        EXPECT_EQ(m.search(v), m.before[v]) << "vertex " << v;
     }
-    EXPECT_GT(found, n) << "the radius must reach neighbours";
-    mesh.release_search_scratch();
-    for (std::uint32_t v = 0; v < n; ++v) {
-        EXPECT_EQ(near_sorted(mesh, v, r2), before[v]) << "vertex " << v;
-    }
-    mesh.release_search_scratch();
-    detail::SnapperParams params;
-    params.vertex_threshold = t;
-    params.edge_threshold = t / 2;
-    params.sliver_threshold = t / 2;
-    params.max_operations = 20 * mesh.vertex_slots() + 1000;
-    params.verify = true;
-    const detail::SnapperOutcome out = detail::run_snapper(mesh, params);
+    m.mesh.release_search_scratch();
+    const detail::SnapperOutcome out = run_snapper_at(m.mesh, SearchedMesh::t);
     EXPECT_GT(out.merges + out.splits, 10u) << "the case must make the snapper edit";
     EXPECT_TRUE(out.converged);
     EXPECT_EQ(out.fixpoint_misses, 0u);
@@ -65,30 +73,21 @@ TEST(EngineMemory, SearchesAfterTheScratchIsReleasedFindTheSame)
 // 2^32 a stored stamp would lose its top bit and never match, and the walks would revisit faces.
 TEST(EngineMemory, SearchesAcrossTheStampWrapFindTheSame)
 {
-    const double t = 0.05;
-    const std::vector<Feature> in = near_degenerate_polygons(20, 5.0, t, 3);
-    std::vector<Problem> problems;
-    const std::vector<detail::CleanFeature> clean = detail::clean_input(in, t, problems);
-    detail::Mesh mesh(clean, t);
-    const auto n = static_cast<std::uint32_t>(mesh.vertex_slots());
+    SearchedMesh m(20, 5.0, 3);
+    const std::uint32_t n = m.vertices();
     ASSERT_GT(n, 100u);
-    const double r2 = 16 * t * t;
-    std::vector<std::vector<std::pair<double, std::uint32_t>>> before;
+    m.mesh.set_stamps_used(cdt::k_stamp_limit - n / 2); // the wrap falls halfway through
+    std::size_t faces = m.mesh.faces_walked();
     for (std::uint32_t v = 0; v < n; ++v) {
-        before.push_back(near_sorted(mesh, v, r2));
+        EXPECT_EQ(m.search(v), m.before[v]) << "vertex " << v;
     }
-    mesh.set_stamps_used(cdt::k_stamp_limit - n / 2); // the wrap falls halfway through
-    std::size_t faces = mesh.faces_walked();
+    EXPECT_LT(m.mesh.stamps_used(), n) << "the counter must have wrapped";
+    const std::size_t across = m.mesh.faces_walked() - faces;
+    faces = m.mesh.faces_walked();
     for (std::uint32_t v = 0; v < n; ++v) {
-        EXPECT_EQ(near_sorted(mesh, v, r2), before[v]) << "vertex " << v;
+        m.search(v);
     }
-    EXPECT_LT(mesh.stamps_used(), n) << "the counter must have wrapped";
-    const std::size_t across = mesh.faces_walked() - faces;
-    faces = mesh.faces_walked();
-    for (std::uint32_t v = 0; v < n; ++v) {
-        near_sorted(mesh, v, r2);
-    }
-    EXPECT_EQ(across, mesh.faces_walked() - faces) << "the walks across the wrap visit each face once, as far from it";
+    EXPECT_EQ(across, m.mesh.faces_walked() - faces) << "the walks across the wrap visit each face once, as far from it";
 }
 
 // Every output ring's allocation is its size: the closing point had room made for it.

@@ -1,6 +1,6 @@
 // The engine's memory habits that no output shows: the searches' per-vertex scratch is dropped
 // after the snapper and comes back if a search needs it, and the output's rings carry no spare
-// capacity (closing a ring once doubled every ring's allocation: about 40 MB on Andorra x43).
+// capacity (closing a ring once doubled every ring's allocation: 34 MB of heap on Andorra x43).
 // Peak memory itself is measured by bench_pipeline (peak_mb) and bench/estimates, not here.
 #include "snap_harness.hpp"
 

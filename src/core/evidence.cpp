@@ -69,22 +69,21 @@ std::vector<bool> self_intersecting(const Mesh& mesh, std::size_t features, cons
     return flag;
 }
 
-std::vector<double> edge_deviation(const Mesh& mesh, const std::vector<CleanFeature>& clean, const Region& region)
+std::vector<double> edge_deviation(const Mesh& mesh, std::size_t features, const Region& region)
 {
-    std::vector<double> worst(clean.size(), 0.0);
+    std::vector<double> worst(features, 0.0);
     mesh.for_each_owned_edge([&](std::uint32_t u, std::uint32_t v, OwnerRef ref) {
         const Owner& o = mesh.owner_at(ref.owner);
         // An end of the input edge, still an input point, is exactly that end: distance 0, which
-        // cannot raise the maximum. Most pieces are whole input edges, so this skips nearly all
-        // of the walk to the feature's coordinates (three dependent loads in table order).
+        // cannot raise the maximum. Most pieces are whole input edges: nearly all stop here.
         const auto at_own_end = [&](std::uint32_t x) { return (x == o.from || x == o.to) && mesh.is_input_point(x); };
         if (at_own_end(u) && at_own_end(v)) {
             return;
         }
-        const CleanFeature& cf = clean[o.feature];
-        const std::vector<Coord>& pts = o.line ? cf.lines[o.part] : cf.rings[o.part].points;
-        const Coord& a = pts[o.seg];
-        const Coord& b = pts[(o.seg + 1) % pts.size()];
+        // The input edge itself: its ends' records keep the input points (an edit removes a
+        // vertex and inserts another; it never moves one).
+        const VertexRecord& a = mesh.vertex(o.from);
+        const VertexRecord& b = mesh.vertex(o.to);
         for (const std::uint32_t x : {u, v}) {
             if (at_own_end(x)) {
                 assert(distance_point_segment(mesh.vertex(x).x, mesh.vertex(x).y, a.x, a.y, b.x, b.y) == 0.0);

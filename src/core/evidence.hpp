@@ -20,8 +20,9 @@ namespace trisnap::detail {
 std::vector<bool> self_intersecting(const Mesh& mesh, std::size_t features, const Region& region);
 
 /// Per feature: the largest distance from a vertex now on one of its input edges to that input
-/// edge (a cascade of splits can bend an edge further than any single vertex moved).
-std::vector<double> edge_deviation(const Mesh& mesh, const std::vector<CleanFeature>& clean, const Region& region);
+/// edge (a cascade of splits can bend an edge further than any single vertex moved). The input
+/// edge is read from its owner's end records (`from`, `to`), which never move.
+std::vector<double> edge_deviation(const Mesh& mesh, std::size_t features, const Region& region);
 
 /// 209 for every polygon (not collapsed entirely: `written[f]`) with input edge pieces that have
 /// the same membership on both sides (owned an even number of times), at the smallest such piece.

@@ -162,4 +162,13 @@ std::vector<CleanFeature> clean_input(const std::vector<Feature>& features, doub
     return out;
 }
 
+void cut_to_outline(CleanFeature& f)
+{
+    auto first_only = [](std::vector<Coord>& points) {
+        if (!points.empty()) std::vector<Coord>{points.front()}.swap(points);
+    };
+    for (CleanRing& ring : f.rings) first_only(ring.points);
+    for (std::vector<Coord>& line : f.lines) first_only(line);
+}
+
 } // namespace trisnap::detail

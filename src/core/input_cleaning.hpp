@@ -33,6 +33,11 @@ struct CleanFeature {
 CleanFeature clean_feature(const Feature& feature, std::size_t index, double tolerance,
                            std::vector<Problem>& problems);
 
+/// Cuts every ring and line of `f` to its first point; counts and flags stay. What the engine
+/// keeps of a feature once the triangulation's records hold its points (Mesh), and what stitch/
+/// reads back from its spool as an outline.
+void cut_to_outline(CleanFeature& f);
+
 /// Cleans every feature; `problems` receives one entry per repair kind per feature.
 std::vector<CleanFeature> clean_input(const std::vector<Feature>& features, double tolerance,
                                       std::vector<Problem>& problems);

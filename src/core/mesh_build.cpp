@@ -2,6 +2,8 @@
 // at crossings and at vertices lying on it by insert_segment, mesh_insert.cpp).
 #include "core/mesh.hpp"
 
+#include "core/input_cleaning.hpp"
+
 #include <CGAL/Spatial_sort_traits_adapter_2.h>
 #include <CGAL/spatial_sort.h>
 #include <boost/property_map/property_map.hpp>
@@ -27,8 +29,8 @@ bool xy_less(const InputPoint& a, const InputPoint& b)
     return a.z < b.z || (std::isnan(b.z) && !std::isnan(a.z));
 }
 
-std::vector<InputPoint> gather_points(const std::vector<CleanFeature>& features,
-                                      std::vector<std::uint32_t>& input_ids, std::vector<std::size_t>& first)
+std::vector<InputPoint> gather_points(const std::vector<CleanFeature>& features, std::vector<std::uint32_t>& input_ids,
+                                      std::vector<std::size_t>& first, std::vector<std::uint32_t>& path_sizes)
 {
     std::size_t n = 0;
     for (const CleanFeature& cf : features) {
@@ -39,10 +41,17 @@ std::vector<InputPoint> gather_points(const std::vector<CleanFeature>& features,
     pts.reserve(n);
     first.assign(1, 0);
     first.reserve(features.size() + 1);
+    path_sizes.clear();
     for (const CleanFeature& cf : features) {
         auto add = [&](const Coord& c) { pts.push_back({c.x, c.y, c.z, pts.size()}); };
-        for (const CleanRing& r : cf.rings) std::for_each(r.points.begin(), r.points.end(), add);
-        for (const auto& l : cf.lines) std::for_each(l.begin(), l.end(), add);
+        for (const CleanRing& r : cf.rings) {
+            std::for_each(r.points.begin(), r.points.end(), add);
+            path_sizes.push_back(static_cast<std::uint32_t>(r.points.size()));
+        }
+        for (const auto& l : cf.lines) {
+            std::for_each(l.begin(), l.end(), add);
+            path_sizes.push_back(static_cast<std::uint32_t>(l.size()));
+        }
         first.push_back(pts.size());
     }
     input_ids.assign(pts.size(), cdt::k_no_id);
@@ -64,9 +73,20 @@ double mean_z(std::vector<InputPoint>::const_iterator first, std::vector<InputPo
 
 Mesh::Mesh(const std::vector<CleanFeature>& features, double reach, WorkMeter* meter)
 {
-    insert_points(features, reach, meter);
+    build(features, reach, meter, nullptr);
+}
+
+Mesh::Mesh(std::vector<CleanFeature>& features, double reach, WorkMeter* meter, OutlineInput)
+{
+    build(features, reach, meter, &features);
+}
+
+void Mesh::build(const std::vector<CleanFeature>& features, double reach, WorkMeter* meter,
+                 std::vector<CleanFeature>* outline)
+{
+    const std::vector<std::uint32_t> path_sizes = insert_points(features, reach, meter, outline);
     const std::size_t first_created = m_vertices.size();
-    insert_constraints(features, meter);
+    insert_constraints(features, path_sizes, meter);
     register_created_vertices(first_created);
     // The build recorded every constraint as "new"; only the snapper's edits need that list.
     m_new_edges.clear();
@@ -106,10 +126,16 @@ struct RecordPoints {
     friend cdt::Point get(const RecordPoints& m, std::uint32_t i) { return {(*m.records)[i].x, (*m.records)[i].y}; }
 };
 
-void Mesh::insert_points(const std::vector<CleanFeature>& features, double reach, WorkMeter* meter)
+std::vector<std::uint32_t> Mesh::insert_points(const std::vector<CleanFeature>& features, double reach,
+                                               WorkMeter* meter, std::vector<CleanFeature>* outline)
 {
     if (meter) meter->begin(WorkMeter::Step::points);
-    std::vector<InputPoint> pts = gather_points(features, m_input_ids, m_input_first);
+    std::vector<std::uint32_t> path_sizes;
+    std::vector<InputPoint> pts = gather_points(features, m_input_ids, m_input_first, path_sizes);
+    if (outline != nullptr) {
+        // `pts` holds every coordinate now, and the records will (vertices never move).
+        std::for_each(outline->begin(), outline->end(), cut_to_outline);
+    }
     std::size_t distinct = 0;
     for (std::size_t i = 0; i < pts.size(); ++i) {
         distinct += i == 0 || pts[i].x != pts[i - 1].x || pts[i].y != pts[i - 1].y ? 1 : 0;
@@ -165,12 +191,19 @@ void Mesh::insert_points(const std::vector<CleanFeature>& features, double reach
     }
     m_ulp_margin = 64 * (std::nextafter(largest, std::numeric_limits<double>::infinity()) - largest);
     m_forward.assign(total, cdt::k_no_id);
+    return path_sizes;
 }
 
 // Features are inserted in (id, index) order so crossings are found in an order that does not
 // depend on how the caller ordered its features.
-void Mesh::insert_constraints(const std::vector<CleanFeature>& features, WorkMeter* meter)
+void Mesh::insert_constraints(const std::vector<CleanFeature>& features, const std::vector<std::uint32_t>& path_sizes,
+                              WorkMeter* meter)
 {
+    // Each feature's first path in path_sizes (features in input order there).
+    std::vector<std::size_t> first_path(features.size() + 1, 0);
+    for (std::size_t f = 0; f < features.size(); ++f) {
+        first_path[f + 1] = first_path[f] + features[f].rings.size() + features[f].lines.size();
+    }
     if (meter) meter->begin(WorkMeter::Step::constraints);
     const std::size_t total_edges = m_input_ids.size(); // at most one per input point
     std::size_t edges_done = 0;
@@ -196,11 +229,12 @@ void Mesh::insert_constraints(const std::vector<CleanFeature>& features, WorkMet
             base += n;
         };
         const CleanFeature& cf = features[f];
+        const std::uint32_t* sizes = path_sizes.data() + first_path[f];
         for (std::uint32_t r = 0; r < cf.rings.size(); ++r) {
-            add_path(cf.rings[r].points.size(), r, true, false);
+            add_path(sizes[r], r, true, false);
         }
         for (std::uint32_t l = 0; l < cf.lines.size(); ++l) {
-            add_path(cf.lines[l].size(), l, false, true);
+            add_path(sizes[cf.rings.size() + l], l, false, true);
         }
     }
 }

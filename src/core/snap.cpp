@@ -71,17 +71,16 @@ struct Context {
     double grid; ///< the output grid, 0 when rounding is not safe (see snap())
 };
 
+// How far the feature's input points moved: each input point's own record (records never move)
+// against the vertex it now is.
 double feature_displacement(Context& c, std::size_t f)
 {
-    const std::span<const std::uint32_t> ids = c.mesh.input_vertices(f);
     double worst = 0;
-    std::size_t k = 0;
-    auto visit = [&](const Coord& p) {
-        const detail::VertexRecord& r = c.mesh.vertex(c.mesh.current(ids[k++]));
+    for (const std::uint32_t id : c.mesh.input_vertices(f)) {
+        const detail::VertexRecord& p = c.mesh.vertex(id);
+        const detail::VertexRecord& r = c.mesh.vertex(c.mesh.current(id));
         if (c.options.report_region.contains(p.x, p.y)) worst = std::max(worst, std::hypot(r.x - p.x, r.y - p.y));
-    };
-    for (const auto& ring : c.clean[f].rings) std::for_each(ring.points.begin(), ring.points.end(), visit);
-    for (const auto& line : c.clean[f].lines) std::for_each(line.begin(), line.end(), visit);
+    }
     return worst;
 }
 
@@ -144,11 +143,10 @@ void give_shared(const std::vector<CleanFeature>& clean, const detail::SharedBou
     }
 }
 
-// Each feature's face list and cleaned input are freed once its output is made: the outputs
-// grow as they go. From here on a CleanFeature keeps its id, index and counts only.
+// Each feature's face list is freed once its output is made: the outputs grow as they go.
 void extract_all(Context& c, detail::FaceLabels& labels)
 {
-    const std::vector<double> deviation = detail::edge_deviation(c.mesh, c.clean, c.options.report_region);
+    const std::vector<double> deviation = detail::edge_deviation(c.mesh, c.clean.size(), c.options.report_region);
     auto lines = detail::collect_line_edges(c.mesh, c.clean.size());
     for (std::size_t f = 0; f < c.clean.size(); ++f) {
         const CleanFeature& cf = c.clean[f];
@@ -171,10 +169,6 @@ void extract_all(Context& c, detail::FaceLabels& labels)
         out.max_displacement = std::max(feature_displacement(c, f), deviation[f]);
         c.result.stats.max_displacement = std::max(c.result.stats.max_displacement, out.max_displacement);
         report_outcome(c, f, out.geometry, out.max_displacement);
-        // Its input coordinates are not needed past here (what follows reads ids and positions):
-        // freed as the outputs grow, so the two copies of the layer never coexist whole.
-        std::vector<detail::CleanRing>().swap(c.clean[f].rings);
-        std::vector<std::vector<Coord>>().swap(c.clean[f].lines);
         if ((f & 255) == 255) c.meter.advance(f, c.clean.size());
     }
 }
@@ -243,7 +237,9 @@ SnapResult snap_features(const std::vector<Feature>& features, const SnapOptions
         meter.finish();
         return result;
     }
-    Mesh mesh(clean, std::max({params.vertex_threshold, params.edge_threshold, params.sliver_threshold}), &meter);
+    // From here on `clean` holds outlines: the mesh's records hold the points (Mesh::outline_input).
+    Mesh mesh(clean, std::max({params.vertex_threshold, params.edge_threshold, params.sliver_threshold}), &meter,
+              Mesh::outline_input);
     st.triangulation_vertices = mesh.tri().number_of_vertices() - Mesh::frame_vertices;
     st.intersections = mesh.intersections();
     const std::vector<bool> crossing = detail::self_intersecting(mesh, clean.size(), options.report_region);

@@ -1,6 +1,7 @@
 // The engine's memory habits that no output shows: the searches' per-vertex scratch is dropped
-// after the snapper and comes back if a search needs it, and the output's rings carry no spare
-// capacity (closing a ring once doubled every ring's allocation: 34 MB of heap on Andorra x43).
+// after the snapper and comes back if a search needs it, the output's rings carry no spare
+// capacity (closing a ring once doubled every ring's allocation: 34 MB of heap on Andorra x43),
+// and the cleaned input is cut to outlines once the mesh's records hold its points.
 // Peak memory itself is measured by bench_pipeline (peak_mb) and bench/estimates, not here.
 #include "snap_harness.hpp"
 
@@ -107,6 +108,83 @@ TEST(EngineMemory, OutputRingsHoldNoSpareCapacity)
         }
     }
     EXPECT_EQ(rings, in.size());
+}
+
+// Mesh::outline_input cuts the cleaned features to their outlines once the vertex records hold
+// their points: every input point is then read back exactly from the records, feature by
+// feature, rings then lines, and the mesh is the one a build that keeps the copy makes.
+TEST(EngineMemory, OutlinedInputIsInTheRecords)
+{
+    const double t = 0.05;
+    std::vector<Feature> in = near_degenerate_polygons(30, 10.0, t, 7);
+    in.push_back(dense_line(1000, 200, 0.02, 0.3, 5));
+    in.push_back(dense_line(1001, 50, 0.1, 0.0, 6));
+    // Rings of different sizes in one feature: a shell of 40 points with a square hole, and a
+    // second part of 4 (two parts of one multipolygon, so each path's size must be its own).
+    Feature holed = densified_square(1002, 40, 4.0);
+    Feature hole = square(0, 1.0, 1.0, 1.0);
+    std::reverse(hole.geometry.polygons[0].rings[0].begin(), hole.geometry.polygons[0].rings[0].end());
+    holed.geometry.polygons[0].rings.push_back(hole.geometry.polygons[0].rings[0]);
+    holed.geometry.polygons.push_back(square(0, 6.0, 0.0, 1.0).geometry.polygons[0]);
+    holed.geometry.type = Geometry::Type::MultiPolygon;
+    in.push_back(holed);
+    std::vector<Problem> problems;
+    const std::vector<detail::CleanFeature> full = detail::clean_input(in, t, problems);
+    std::vector<detail::CleanFeature> cut = full;
+    const detail::Mesh kept(full, t);
+    const detail::Mesh outlined(cut, t, nullptr, detail::Mesh::outline_input);
+
+    ASSERT_EQ(cut.size(), full.size());
+    std::size_t points = 0, lines = 0;
+    for (std::size_t f = 0; f < full.size(); ++f) {
+        const detail::CleanFeature& a = full[f];
+        const detail::CleanFeature& b = cut[f];
+        ASSERT_EQ(b.rings.size(), a.rings.size());
+        ASSERT_EQ(b.lines.size(), a.lines.size());
+        EXPECT_EQ(b.shells, a.shells);
+        EXPECT_EQ(b.holes, a.holes);
+        std::vector<Coord> expected;
+        for (std::size_t r = 0; r < a.rings.size(); ++r) {
+            ASSERT_EQ(b.rings[r].points.size(), 1u) << "feature " << f << " ring " << r << " is not cut";
+            EXPECT_EQ(b.rings[r].points.front(), a.rings[r].points.front());
+            EXPECT_EQ(b.rings[r].hole, a.rings[r].hole);
+            expected.insert(expected.end(), a.rings[r].points.begin(), a.rings[r].points.end());
+        }
+        for (std::size_t l = 0; l < a.lines.size(); ++l, ++lines) {
+            ASSERT_EQ(b.lines[l].size(), 1u) << "feature " << f << " line " << l << " is not cut";
+            EXPECT_EQ(b.lines[l].front(), a.lines[l].front());
+            expected.insert(expected.end(), a.lines[l].begin(), a.lines[l].end());
+        }
+        const auto ids = outlined.input_vertices(f);
+        ASSERT_EQ(ids.size(), expected.size()) << "feature " << f;
+        for (std::size_t k = 0; k < ids.size(); ++k, ++points) {
+            const detail::VertexRecord& r = outlined.vertex(ids[k]);
+            EXPECT_EQ(r.x, expected[k].x) << "feature " << f << " point " << k;
+            EXPECT_EQ(r.y, expected[k].y) << "feature " << f << " point " << k;
+        }
+    }
+    EXPECT_EQ(lines, 2u);
+    EXPECT_EQ(cut.back().rings.size(), 3u) << "the multipolygon keeps its shell, hole and part";
+    EXPECT_GT(points, 500u);
+    // The same triangulation: the same vertices (crossings included) and constrained edges.
+    ASSERT_EQ(outlined.vertex_slots(), kept.vertex_slots());
+    ASSERT_GT(outlined.intersections(), 0u) << "the case must cross edges";
+    for (std::uint32_t v = 0; v < kept.vertex_slots(); ++v) {
+        EXPECT_EQ(outlined.vertex(v).x, kept.vertex(v).x) << "vertex " << v;
+        EXPECT_EQ(outlined.vertex(v).y, kept.vertex(v).y) << "vertex " << v;
+    }
+    auto constrained = [](const detail::Mesh& m) {
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+        for (auto e = m.tri().finite_edges_begin(); e != m.tri().finite_edges_end(); ++e) {
+            if (!m.tri().is_constrained(*e)) continue;
+            const std::uint32_t a = m.id(e->first->vertex(m.tri().cw(e->second)));
+            const std::uint32_t b = m.id(e->first->vertex(m.tri().ccw(e->second)));
+            edges.emplace_back(std::min(a, b), std::max(a, b));
+        }
+        std::sort(edges.begin(), edges.end());
+        return edges;
+    };
+    EXPECT_EQ(constrained(outlined), constrained(kept));
 }
 
 } // namespace

@@ -31,16 +31,20 @@ struct Owner {
     bool line = false;
 };
 
-/// 48 bytes: one per triangulation vertex, the engine's largest table after CGAL's own. The
-/// rare list of owners a vertex was split into lives beside it (Mesh::snapped_into).
+/// 40 bytes: one per triangulation vertex, the engine's largest table after CGAL's own. The
+/// rare list of owners a vertex was split into lives beside it (Mesh::snapped_into). A removed
+/// vertex keeps its record (`alive` false), so an input point's record is that point for good.
 struct VertexRecord {
     cdt::Vertex_handle handle;
     double x = 0, y = 0, z = 0;
-    double weight = 1;                         ///< how many vertices were merged into this one
+    /// How many input points were merged into this one (0 for a crossing until the build ends):
+    /// the weight of its centroid. At most the run's input points: 31 bits hold it (2^31 points
+    /// in one engine run would take ~800 GB), and it converts to a double exactly.
+    std::uint32_t weight : 31 = 1;
+    std::uint32_t alive : 1 = 1;
     std::uint32_t snapped = cdt::k_no_id;      ///< its list in Mesh::m_snapped, if it has one
-    bool alive = true;
 };
-static_assert(sizeof(VertexRecord) <= 48, "VertexRecord is one per vertex: keep it small");
+static_assert(sizeof(VertexRecord) <= 40, "VertexRecord is one per vertex: keep it small");
 
 /// How many times a polygon feature owns one edge.
 struct FeatureCount {

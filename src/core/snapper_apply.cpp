@@ -80,9 +80,10 @@ bool Snapper::apply_face(const Event& e)
     const VertexRecord& ra = m_mesh.vertex(e.a);
     const VertexRecord& rb = m_mesh.vertex(e.b);
     const VertexRecord& rc = m_mesh.vertex(e.c);
-    const double w = ra.weight + rb.weight + rc.weight;
-    const double x = (ra.weight * ra.x + rb.weight * rb.x + rc.weight * rc.x) / w;
-    const double y = (ra.weight * ra.y + rb.weight * rb.y + rc.weight * rc.y) / w;
+    const double wa = ra.weight, wb = rb.weight, wc = rc.weight;
+    const double w = wa + wb + wc;
+    const double x = (wa * ra.x + wb * rb.x + wc * rc.x) / w;
+    const double y = (wa * ra.y + wb * rb.y + wc * rc.y) / w;
     const std::array<std::uint32_t, 3> olds{e.a, e.b, e.c};
     after_edit(m_mesh.replace(olds, x, y, nullptr));
     m_out.merges += 2;
@@ -104,9 +105,10 @@ bool Snapper::apply_merge(const Event& e)
     const VertexRecord& ra = m_mesh.vertex(e.a);
     const VertexRecord& rb = m_mesh.vertex(e.b);
     const std::array<std::uint32_t, 2> olds{e.a, e.b};
-    const double w = ra.weight + rb.weight;
-    const double x = (ra.weight * ra.x + rb.weight * rb.x) / w;
-    const double y = (ra.weight * ra.y + rb.weight * rb.y) / w;
+    const double wa = ra.weight, wb = rb.weight;
+    const double w = wa + wb;
+    const double x = (wa * ra.x + wb * rb.x) / w;
+    const double y = (wa * ra.y + wb * rb.y) / w;
     after_edit(m_mesh.replace(olds, x, y, nullptr));
     m_out.merges += 1;
     return true;

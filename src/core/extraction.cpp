@@ -13,7 +13,7 @@ Coord output_coord(const Mesh& mesh, std::uint32_t v, const ExtractOptions& o)
 // A face's edge i runs from vertex ccw(i) to vertex cw(i) with the face on its left (CGAL's
 // faces are counter-clockwise); it is on the feature's boundary when the neighbour across it
 // is not one of the feature's faces.
-Geometry extract_polygons(Mesh& mesh, const std::vector<cdt::Face_handle>& faces,
+Geometry extract_polygons(Mesh& mesh, std::span<const cdt::Face_handle> faces,
                           const ExtractOptions& options)
 {
     const std::uint32_t stamp = mesh.fresh_stamp();

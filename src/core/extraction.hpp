@@ -6,6 +6,7 @@
 #include "core/geometry.hpp"
 #include "core/mesh.hpp"
 
+#include <span>
 #include <vector>
 
 namespace trisnap::detail {
@@ -18,7 +19,7 @@ struct ExtractOptions {
 /// The output coordinate of a vertex (grid-rounded, z only when the feature has z).
 Coord output_coord(const Mesh& mesh, std::uint32_t v, const ExtractOptions& options);
 
-Geometry extract_polygons(Mesh& mesh, const std::vector<cdt::Face_handle>& faces,
+Geometry extract_polygons(Mesh& mesh, std::span<const cdt::Face_handle> faces,
                           const ExtractOptions& options);
 
 /// Directed sub-edges of each line feature's constraints, bucketed by feature index.

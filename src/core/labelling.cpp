@@ -1,7 +1,6 @@
 #include "core/labelling.hpp"
 
 #include <algorithm>
-#include <deque>
 #include <map>
 #include <unordered_map>
 
@@ -12,27 +11,32 @@ class Labeller {
 public:
     Labeller(Mesh& mesh, FaceLabels& out) : m_mesh(mesh), m_out(out) {}
 
-    void run()
+    void run(std::size_t feature_count)
     {
         auto& tri = m_mesh.tri();
         for (auto f : tri.all_face_handles()) f->info().label = cdt::k_no_id;
+        m_steps.reserve(2 * feature_count + 16); // a feature's boundary is entered and left
         const std::uint32_t outside = intern({});
-        std::deque<cdt::Face_handle> queue{tri.infinite_face()};
+        // Breadth first, one wave after another: the order a FIFO queue gives, in two vectors
+        // that keep their room (a deque allocated a block per 64 faces).
+        std::vector<cdt::Face_handle> wave{tri.infinite_face()}, next;
         tri.infinite_face()->info().label = outside;
-        while (!queue.empty()) {
-            const cdt::Face_handle f = queue.front();
-            queue.pop_front();
-            for (int i = 0; i < 3; ++i) visit_neighbour(f, i, queue);
+        while (!wave.empty()) {
+            for (const cdt::Face_handle f : wave) {
+                for (int i = 0; i < 3; ++i) visit_neighbour(f, i, next);
+            }
+            wave.swap(next);
+            next.clear();
         }
     }
 
 private:
-    void visit_neighbour(cdt::Face_handle f, int i, std::deque<cdt::Face_handle>& queue)
+    void visit_neighbour(cdt::Face_handle f, int i, std::vector<cdt::Face_handle>& next)
     {
         const cdt::Face_handle n = f->neighbor(i);
         if (n->info().label != cdt::k_no_id) return;
         n->info().label = f->is_constrained(i) ? crossed(f->info().label, f, i) : f->info().label;
-        queue.push_back(n);
+        next.push_back(n);
     }
 
     // The label on the other side of constrained edge (f, i).
@@ -86,10 +90,25 @@ private:
 FaceLabels label_faces(Mesh& mesh, std::size_t feature_count)
 {
     FaceLabels out;
-    Labeller(mesh, out).run();
-    out.faces_of.resize(feature_count);
+    Labeller(mesh, out).run(feature_count);
+    // Counted, then placed: the same faces in the same order per feature as pushing them.
+    std::vector<std::size_t>& first = out.first;
+    first.assign(feature_count + 1, 0);
     for (auto f : mesh.tri().finite_face_handles())
-        for (std::uint32_t feature : out.sets[f->info().label]) out.faces_of[feature].push_back(f);
+        for (std::uint32_t feature : out.sets[f->info().label]) ++first[feature + 1];
+    for (std::size_t k = 0; k < feature_count; ++k) first[k + 1] += first[k];
+    const std::size_t blocks = (feature_count + FaceLabels::k_block - 1) / FaceLabels::k_block;
+    out.blocks.resize(blocks);
+    for (std::size_t b = 0; b < blocks; ++b) {
+        const std::size_t lo = b * FaceLabels::k_block, hi = std::min(feature_count, lo + FaceLabels::k_block);
+        out.blocks[b].resize(first[hi] - first[lo]);
+    }
+    std::vector<std::size_t> next(first.begin(), first.end() - 1); // where feature f's next face goes
+    for (auto f : mesh.tri().finite_face_handles())
+        for (std::uint32_t feature : out.sets[f->info().label]) {
+            const std::size_t b = feature / FaceLabels::k_block;
+            out.blocks[b][next[feature]++ - first[b * FaceLabels::k_block]] = f;
+        }
     return out;
 }
 

@@ -143,12 +143,10 @@ void give_shared(const std::vector<CleanFeature>& clean, const detail::SharedBou
     }
 }
 
-// Each feature's face list is freed once its output is made: the outputs grow as they go.
-void extract_all(Context& c, detail::FaceLabels& labels)
+void extract_block(Context& c, const detail::FaceLabels& labels, const std::vector<double>& deviation,
+                   const std::vector<std::vector<detail::LineEdge>>& lines, std::size_t lo, std::size_t hi)
 {
-    const std::vector<double> deviation = detail::edge_deviation(c.mesh, c.clean.size(), c.options.report_region);
-    auto lines = detail::collect_line_edges(c.mesh, c.clean.size());
-    for (std::size_t f = 0; f < c.clean.size(); ++f) {
+    for (std::size_t f = lo; f < hi; ++f) {
         const CleanFeature& cf = c.clean[f];
         FeatureOutput& out = c.result.features[cf.index];
         out.id = cf.id;
@@ -156,8 +154,7 @@ void extract_all(Context& c, detail::FaceLabels& labels)
         const bool has_z = c.result.features[cf.index].geometry.has_z;
         const detail::ExtractOptions eo{c.grid, has_z};
         if (cf.polygonal) {
-            out.geometry = detail::extract_polygons(c.mesh, labels.faces_of[f], eo);
-            std::vector<cdt::Face_handle>().swap(labels.faces_of[f]);
+            out.geometry = detail::extract_polygons(c.mesh, labels.faces_of(f), eo);
         } else {
             std::vector<Coord> starts;
             for (const auto& l : cf.lines) {
@@ -170,6 +167,17 @@ void extract_all(Context& c, detail::FaceLabels& labels)
         c.result.stats.max_displacement = std::max(c.result.stats.max_displacement, out.max_displacement);
         report_outcome(c, f, out.geometry, out.max_displacement);
         if ((f & 255) == 255) c.meter.advance(f, c.clean.size());
+    }
+}
+
+// Each block of features' faces is freed once their outputs are made: the outputs grow into it.
+void extract_all(Context& c, detail::FaceLabels& labels)
+{
+    const std::vector<double> deviation = detail::edge_deviation(c.mesh, c.clean.size(), c.options.report_region);
+    auto lines = detail::collect_line_edges(c.mesh, c.clean.size());
+    for (std::size_t lo = 0; lo < c.clean.size(); lo += detail::FaceLabels::k_block) {
+        extract_block(c, labels, deviation, lines, lo, std::min(c.clean.size(), lo + detail::FaceLabels::k_block));
+        labels.release_block(lo);
     }
 }
 

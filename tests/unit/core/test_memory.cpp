@@ -1,12 +1,15 @@
 // The engine's memory habits that no output shows: the searches' per-vertex scratch is dropped
 // after the snapper and comes back if a search needs it, the output's rings carry no spare
 // capacity (closing a ring once doubled every ring's allocation: 34 MB of heap on Andorra x43),
-// and the cleaned input is cut to outlines once the mesh's records hold its points.
+// the cleaned input is cut to outlines once the mesh's records hold its points, and the faces
+// of each feature are held in blocks of features, each one allocation.
 // Peak memory itself is measured by bench_pipeline (peak_mb) and bench/estimates, not here.
 #include "snap_harness.hpp"
 
 #include "generators.hpp"
 #include "mesh_harness.hpp"
+
+#include "core/labelling.hpp"
 
 #include <gtest/gtest.h>
 
@@ -185,6 +188,43 @@ TEST(EngineMemory, OutlinedInputIsInTheRecords)
         return edges;
     };
     EXPECT_EQ(constrained(outlined), constrained(kept));
+}
+
+// label_faces places each feature's faces in blocks of FaceLabels::k_block features: across the
+// block boundaries every feature's list is the finite faces whose label holds it, in the
+// triangulation's order (what pushing them one by one gave), and freeing one block leaves the
+// others whole.
+TEST(EngineMemory, FaceListsInBlocksAreEachFeaturesFaces)
+{
+    const double t = 0.01;
+    const std::size_t block = detail::FaceLabels::k_block;
+    const std::vector<Feature> in = random_small_squares(static_cast<int>(2 * block + 100), 1.0, 200.0, 9);
+    std::vector<Problem> problems;
+    const std::vector<detail::CleanFeature> clean = detail::clean_input(in, t, problems);
+    detail::Mesh mesh(clean, t);
+    detail::FaceLabels labels = detail::label_faces(mesh, clean.size());
+    ASSERT_EQ(labels.blocks.size(), 3u);
+    std::vector<std::vector<cdt::Face_handle>> expected(clean.size());
+    std::size_t shared = 0;
+    for (const cdt::Face_handle f : mesh.tri().finite_face_handles()) {
+        const std::vector<std::uint32_t>& set = labels.sets[f->info().label];
+        shared += set.size() > 1 ? 1 : 0;
+        for (const std::uint32_t feature : set) expected[feature].push_back(f);
+    }
+    EXPECT_GT(shared, 0u) << "the case must hold faces of two overlapping features";
+    auto same = [&](std::size_t f) {
+        const std::span<const cdt::Face_handle> got = labels.faces_of(f);
+        return std::equal(got.begin(), got.end(), expected[f].begin(), expected[f].end());
+    };
+    for (std::size_t f = 0; f < clean.size(); ++f) {
+        ASSERT_GE(expected[f].size(), 2u) << "feature " << f << " is a square: two faces at least";
+        EXPECT_TRUE(same(f)) << "feature " << f;
+    }
+    labels.release_block(block + 7); // the middle block
+    EXPECT_EQ(labels.blocks[1].capacity(), 0u);
+    for (std::size_t f : {std::size_t{0}, block - 1, 2 * block, clean.size() - 1}) {
+        EXPECT_TRUE(same(f)) << "feature " << f << " after the middle block was freed";
+    }
 }
 
 } // namespace

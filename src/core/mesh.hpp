@@ -19,17 +19,16 @@
 
 namespace trisnap::detail {
 
-/// Who an input edge belongs to. `part` is the ring index (polygons) or line index (lines) in
-/// the CleanFeature; `seg` the edge's index along it; `from` and `to` the vertex ids of its ends
-/// when the triangulation was built (follow merges with Mesh::current()).
+/// Who an input edge belongs to: `from` and `to` are the vertex ids of its ends when the
+/// triangulation was built (input points, whose records keep them; follow merges with
+/// Mesh::current()). One per input edge: 16 bytes.
 struct Owner {
     std::uint32_t feature = 0;
-    std::uint32_t part = 0;
-    std::uint32_t seg = 0;
     std::uint32_t from = 0;
     std::uint32_t to = 0;
     bool line = false;
 };
+static_assert(sizeof(Owner) <= 16, "Owner is one per input edge: keep it small");
 
 /// 40 bytes: one per triangulation vertex, the engine's largest table after CGAL's own. The
 /// rare list of owners a vertex was split into lives beside it (Mesh::snapped_into). A removed
@@ -320,6 +319,7 @@ private:
     std::vector<Saved> m_saved;
     std::vector<std::uint32_t> m_created; ///< vertices insert_segment() created (crossings)
     std::vector<std::pair<std::uint32_t, std::uint32_t>> m_new_edges;
+    bool m_list_new_edges = true; ///< false while the build inserts the input
     std::vector<std::uint32_t> m_ring;
     std::vector<cdt::Face_handle> m_walk;
     std::vector<cdt::Face_handle> m_hub_faces;

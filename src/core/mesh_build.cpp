@@ -84,13 +84,14 @@ Mesh::Mesh(std::vector<CleanFeature>& features, double reach, WorkMeter* meter, 
 void Mesh::build(const std::vector<CleanFeature>& features, double reach, WorkMeter* meter,
                  std::vector<CleanFeature>* outline)
 {
+    // Only the snapper's edits need the list of new edges: the build would list every
+    // constraint (13 MB on Andorra x43, at the build's peak).
+    m_list_new_edges = false;
     const std::vector<std::uint32_t> path_sizes = insert_points(features, reach, meter, outline);
     const std::size_t first_created = m_vertices.size();
     insert_constraints(features, path_sizes, meter);
     register_created_vertices(first_created);
-    // The build recorded every constraint as "new"; only the snapper's edits need that list.
-    m_new_edges.clear();
-    m_new_edges.shrink_to_fit();
+    m_list_new_edges = true;
 }
 
 // Distinct points get ids in lexicographic (x, y) order; they are inserted in CGAL's spatial
@@ -216,12 +217,12 @@ void Mesh::insert_constraints(const std::vector<CleanFeature>& features, const s
     for (std::uint32_t f : order) {
         const std::span<const std::uint32_t> ids = input_vertices(f);
         std::size_t base = 0;
-        auto add_path = [&](std::size_t n, std::uint32_t part, bool closed, bool line) {
+        auto add_path = [&](std::size_t n, bool closed, bool line) {
             const std::size_t edges = closed ? n : n - 1;
             for (std::size_t i = 0; i < edges; ++i) {
                 const std::uint32_t from = ids[base + i];
                 const std::uint32_t to = ids[base + (i + 1) % n];
-                m_owners.push_back(Owner{f, part, static_cast<std::uint32_t>(i), from, to, line});
+                m_owners.push_back(Owner{f, from, to, line});
                 const OwnerRef ref{static_cast<std::uint32_t>(m_owners.size() - 1), true};
                 insert_segment(m_vertices[from].handle, m_vertices[to].handle, std::span(&ref, 1));
                 if (meter && (++edges_done & 255) == 0) meter->advance(edges_done, total_edges);
@@ -230,11 +231,9 @@ void Mesh::insert_constraints(const std::vector<CleanFeature>& features, const s
         };
         const CleanFeature& cf = features[f];
         const std::uint32_t* sizes = path_sizes.data() + first_path[f];
-        for (std::uint32_t r = 0; r < cf.rings.size(); ++r) {
-            add_path(sizes[r], r, true, false);
-        }
-        for (std::uint32_t l = 0; l < cf.lines.size(); ++l) {
-            add_path(sizes[cf.rings.size() + l], l, false, true);
+        for (std::size_t p = 0; p < cf.rings.size() + cf.lines.size(); ++p) {
+            const bool line = p >= cf.rings.size(); // rings first, then lines
+            add_path(sizes[p], !line, line);
         }
     }
 }

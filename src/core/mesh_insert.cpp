@@ -57,7 +57,7 @@ cdt::Vertex_handle Mesh::insert_point(const cdt::Point& p, cdt::Face_handle hint
         add_owner(id(er), id(v), m_arena[k]);
         add_owner(id(v), id(el), m_arena[k]);
     }
-    if (er != cdt::Vertex_handle()) {
+    if (er != cdt::Vertex_handle() && m_list_new_edges) {
         m_new_edges.emplace_back(id(er), id(v));
         m_new_edges.emplace_back(id(v), id(el));
     }
@@ -107,7 +107,7 @@ void Mesh::run_jobs()
 void Mesh::constrain(const Job& job)
 {
     m_tri.insert_constraint(job.a, job.b);
-    m_new_edges.emplace_back(id(job.a), id(job.b));
+    if (m_list_new_edges) m_new_edges.emplace_back(id(job.a), id(job.b));
     for (std::uint32_t k = job.first; k < job.first + job.count; ++k) {
         add_owner(id(job.a), id(job.b), m_arena[k]);
     }

@@ -18,12 +18,12 @@ Geometry extract_polygons(Mesh& mesh, std::span<const cdt::Face_handle> faces,
 {
     const std::uint32_t stamp = mesh.fresh_stamp();
     for (const cdt::Face_handle f : faces) {
-        f->info().stamp = stamp;
+        f->info().mark = stamp;
     }
     std::vector<DirectedEdge> edges;
     for (const cdt::Face_handle f : faces) {
         for (int i = 0; i < 3; ++i) {
-            if (f->neighbor(i)->info().stamp == stamp) {
+            if (f->neighbor(i)->info().mark == stamp) {
                 continue;
             }
             const std::uint32_t a = f->vertex(cdt::Triangulation::ccw(i))->info().id;

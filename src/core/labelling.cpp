@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <stdexcept>
 #include <unordered_map>
 
 namespace trisnap::detail {
@@ -14,13 +15,13 @@ public:
     void run(std::size_t feature_count)
     {
         auto& tri = m_mesh.tri();
-        for (auto f : tri.all_face_handles()) f->info().label = cdt::k_no_id;
+        for (auto f : tri.all_face_handles()) f->info().mark = cdt::k_no_label;
         m_steps.reserve(2 * feature_count + 16); // a feature's boundary is entered and left
         const std::uint32_t outside = intern({});
         // Breadth first, one wave after another: the order a FIFO queue gives, in two vectors
         // that keep their room (a deque allocated a block per 64 faces).
         std::vector<cdt::Face_handle> wave{tri.infinite_face()}, next;
-        tri.infinite_face()->info().label = outside;
+        tri.infinite_face()->info().mark = outside;
         while (!wave.empty()) {
             for (const cdt::Face_handle f : wave) {
                 for (int i = 0; i < 3; ++i) visit_neighbour(f, i, next);
@@ -34,8 +35,8 @@ private:
     void visit_neighbour(cdt::Face_handle f, int i, std::vector<cdt::Face_handle>& next)
     {
         const cdt::Face_handle n = f->neighbor(i);
-        if (n->info().label != cdt::k_no_id) return;
-        n->info().label = f->is_constrained(i) ? crossed(f->info().label, f, i) : f->info().label;
+        if (n->info().mark != cdt::k_no_label) return;
+        n->info().mark = f->is_constrained(i) ? crossed(f->info().mark, f, i) : f->info().mark;
         next.push_back(n);
     }
 
@@ -71,6 +72,9 @@ private:
 
     std::uint32_t intern(std::vector<std::uint32_t> set)
     {
+        if (m_out.sets.size() >= cdt::k_no_label && !m_index.count(set)) {
+            throw std::length_error("more than 2^28 - 1 distinct sets of overlapping features: split the layer in tiles");
+        }
         auto [it, added] = m_index.try_emplace(set, static_cast<std::uint32_t>(m_out.sets.size()));
         if (added) m_out.sets.push_back(std::move(set));
         return it->second;
@@ -95,7 +99,7 @@ FaceLabels label_faces(Mesh& mesh, std::size_t feature_count)
     std::vector<std::size_t>& first = out.first;
     first.assign(feature_count + 1, 0);
     for (auto f : mesh.tri().finite_face_handles())
-        for (std::uint32_t feature : out.sets[f->info().label]) ++first[feature + 1];
+        for (std::uint32_t feature : out.sets[f->info().mark]) ++first[feature + 1];
     for (std::size_t k = 0; k < feature_count; ++k) first[k + 1] += first[k];
     const std::size_t blocks = (feature_count + FaceLabels::k_block - 1) / FaceLabels::k_block;
     out.blocks.resize(blocks);
@@ -105,10 +109,12 @@ FaceLabels label_faces(Mesh& mesh, std::size_t feature_count)
     }
     std::vector<std::size_t> next(first.begin(), first.end() - 1); // where feature f's next face goes
     for (auto f : mesh.tri().finite_face_handles())
-        for (std::uint32_t feature : out.sets[f->info().label]) {
+        for (std::uint32_t feature : out.sets[f->info().mark]) {
             const std::size_t b = feature / FaceLabels::k_block;
             out.blocks[b][next[feature]++ - first[b * FaceLabels::k_block]] = f;
         }
+    // The labels were kept in the faces' marks, which the searches use as stamps from here on.
+    for (auto f : mesh.tri().all_face_handles()) f->info().mark = 0;
     return out;
 }
 

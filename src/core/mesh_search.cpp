@@ -47,8 +47,8 @@ void walk_region(cdt::Triangulation& tri, cdt::Vertex_handle start, std::uint32_
     }
     const auto done = fc;
     do {
-        if (!tri.is_infinite(fc) && fc->info().stamp != stamp) {
-            fc->info().stamp = stamp;
+        if (!tri.is_infinite(fc) && fc->info().mark != stamp) {
+            fc->info().mark = stamp;
             stack.push_back(fc);
         }
     } while (++fc != done);
@@ -58,13 +58,13 @@ void walk_region(cdt::Triangulation& tri, cdt::Vertex_handle start, std::uint32_
         visit(f);
         for (int i = 0; i < 3; ++i) {
             const cdt::Face_handle n = f->neighbor(i);
-            if (tri.is_infinite(n) || n->info().stamp == stamp) {
+            if (tri.is_infinite(n) || n->info().mark == stamp) {
                 continue;
             }
             if (!meets(f->vertex(cdt::Triangulation::cw(i))->info().id, f->vertex(cdt::Triangulation::ccw(i))->info().id)) {
                 continue;
             }
-            n->info().stamp = stamp;
+            n->info().mark = stamp;
             stack.push_back(n);
         }
     }
@@ -103,7 +103,7 @@ std::uint32_t Mesh::next_stamp()
 {
     if (++m_stamp == cdt::k_stamp_limit) { // wrapped: clear every mark once
         for (auto f : m_tri.all_face_handles()) {
-            f->info().stamp = 0;
+            f->info().mark = 0;
         }
         std::fill(m_vertex_stamp.begin(), m_vertex_stamp.end(), 0u);
         m_stamp = 1;

@@ -191,9 +191,10 @@ TEST(EngineMemory, OutlinedInputIsInTheRecords)
 }
 
 // label_faces places each feature's faces in blocks of FaceLabels::k_block features: across the
-// block boundaries every feature's list is the finite faces whose label holds it, in the
-// triangulation's order (what pushing them one by one gave), and freeing one block leaves the
-// others whole.
+// block boundaries every feature's list is the finite faces inside its square (found here by
+// the faces' centroids, without the labels), in the triangulation's order (what pushing them one
+// by one gave); freeing one block leaves the others whole; and the faces' marks, which held the
+// labels, are all 0 again for the searches' stamps.
 TEST(EngineMemory, FaceListsInBlocksAreEachFeaturesFaces)
 {
     const double t = 0.01;
@@ -204,13 +205,43 @@ TEST(EngineMemory, FaceListsInBlocksAreEachFeaturesFaces)
     detail::Mesh mesh(clean, t);
     detail::FaceLabels labels = detail::label_faces(mesh, clean.size());
     ASSERT_EQ(labels.blocks.size(), 3u);
-    std::vector<std::vector<cdt::Face_handle>> expected(clean.size());
-    std::size_t shared = 0;
-    for (const cdt::Face_handle f : mesh.tri().finite_face_handles()) {
-        const std::vector<std::uint32_t>& set = labels.sets[f->info().label];
-        shared += set.size() > 1 ? 1 : 0;
-        for (const std::uint32_t feature : set) expected[feature].push_back(f);
+    // The squares' boxes in a grid of unit cells, to find the squares holding a point.
+    struct Box {
+        double x0, y0, x1, y1;
+    };
+    std::vector<Box> boxes;
+    for (const detail::CleanFeature& cf : clean) {
+        ASSERT_EQ(cf.rings.size(), 1u);
+        Box b{1e300, 1e300, -1e300, -1e300};
+        for (const Coord& c : cf.rings[0].points) {
+            b = Box{std::min(b.x0, c.x), std::min(b.y0, c.y), std::max(b.x1, c.x), std::max(b.y1, c.y)};
+        }
+        boxes.push_back(b);
     }
+    const int cells = 202;
+    auto cell = [&](double v) { return std::clamp(static_cast<int>(std::floor(v)) + 1, 0, cells - 1); };
+    std::vector<std::vector<std::uint32_t>> grid(static_cast<std::size_t>(cells * cells));
+    for (std::uint32_t f = 0; f < boxes.size(); ++f) {
+        for (int i = cell(boxes[f].x0); i <= cell(boxes[f].x1); ++i) {
+            for (int j = cell(boxes[f].y0); j <= cell(boxes[f].y1); ++j) grid[static_cast<std::size_t>(i * cells + j)].push_back(f);
+        }
+    }
+    std::vector<std::vector<cdt::Face_handle>> expected(clean.size());
+    std::size_t shared = 0, marked = 0;
+    for (const cdt::Face_handle f : mesh.tri().finite_face_handles()) {
+        marked += f->info().mark != 0 ? 1 : 0;
+        const cdt::Point c = CGAL::centroid(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point());
+        std::size_t in_squares = 0;
+        for (const std::uint32_t k : grid[static_cast<std::size_t>(cell(c.x()) * cells + cell(c.y()))]) {
+            const Box& b = boxes[k];
+            if (c.x() > b.x0 && c.x() < b.x1 && c.y() > b.y0 && c.y() < b.y1) {
+                expected[k].push_back(f);
+                ++in_squares;
+            }
+        }
+        shared += in_squares > 1 ? 1 : 0;
+    }
+    EXPECT_EQ(marked, 0u) << "labelling must leave every mark at 0";
     EXPECT_GT(shared, 0u) << "the case must hold faces of two overlapping features";
     auto same = [&](std::size_t f) {
         const std::span<const cdt::Face_handle> got = labels.faces_of(f);

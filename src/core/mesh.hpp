@@ -117,7 +117,7 @@ public:
     /// A stamp no face or vertex carries yet, for marking sets of faces.
     std::uint32_t fresh_stamp() { return next_stamp(); }
     /// The stamps handed out so far; tests set it near cdt::k_stamp_limit to cross the wrap,
-    /// where every face and vertex mark is cleared (faces keep a stamp in 31 bits).
+    /// where every face and vertex mark is cleared (faces keep a stamp in 28 bits).
     std::uint32_t stamps_used() const { return m_stamp; }
     void set_stamps_used(std::uint32_t n) { m_stamp = std::min(n, cdt::k_stamp_limit - 1); }
     /// Vertex id of each input point, per feature, rings first then lines, in input order.

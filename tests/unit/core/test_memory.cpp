@@ -72,9 +72,10 @@ TEST(EngineMemory, SearchesAfterTheScratchIsReleasedFindTheSame)
     EXPECT_EQ(out.fixpoint_misses, 0u);
 }
 
-// A face keeps its stamp in 31 bits (a 64-byte face): the counter wraps at 2^31 and clears every
-// mark. Searches on both sides of the wrap find what they find far from it; with the wrap at
-// 2^32 a stored stamp would lose its top bit and never match, and the walks would revisit faces.
+// A face keeps its stamp in 28 bits (a 56-byte face): the counter wraps at cdt::k_stamp_limit
+// and clears every mark. Searches on both sides of the wrap find what they find far from it;
+// with the wrap past the field's width a stored stamp would lose its top bits and never match,
+// and the walks would revisit faces.
 TEST(EngineMemory, SearchesAcrossTheStampWrapFindTheSame)
 {
     SearchedMesh m(20, 5.0, 3);

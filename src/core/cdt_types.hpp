@@ -49,7 +49,7 @@ inline constexpr std::uint32_t k_no_label = k_stamp_limit - 1;
 /// search, without a hash set) and, while labelling runs, the face's label (labelling sets every
 /// mark back to 0 when done: the two are never needed at once). `checked` says the snapper has
 /// looked at the face as it is now (core/tracked_face.hpp clears it on every change).
-/// `constrained` holds CGAL's three constrained-edge flags (bit i: edge i; ConstrainedFaceBits).
+/// `constrained` holds CGAL's three constrained-edge flags (bit i: edge i; TrackedFace keeps them).
 /// A face is then 56 bytes: three vertex and three neighbour handles, CGAL's byte of TDS data,
 /// and this. With a 32-bit label beside the stamp and CGAL's `bool C[3]` it was 64 (26 MB of
 /// Andorra x43's 3.2 M faces), and with a bool beside the stamp 72.
@@ -60,67 +60,12 @@ struct FaceInfo {
 };
 static_assert(sizeof(FaceInfo) == 4);
 
-/// CGAL's Constrained_triangulation_face_base_2, with its flags kept in the info's bits instead
-/// of three bools: the same interface (constructors, is_constrained, set_constraint(s), and
-/// reorient and the permutations, which move the flags with the edges).
-template <class Gt, class Fb>
-class ConstrainedFaceBits : public Fb {
-public:
-    using Vertex_handle = typename Fb::Vertex_handle;
-    using Face_handle = typename Fb::Face_handle;
-    template <class TDS2>
-    struct Rebind_TDS {
-        using Fb2 = typename Fb::template Rebind_TDS<TDS2>::Other;
-        using Other = ConstrainedFaceBits<Gt, Fb2>;
-    };
-
-    ConstrainedFaceBits() = default;
-    ConstrainedFaceBits(Vertex_handle v0, Vertex_handle v1, Vertex_handle v2) : Fb(v0, v1, v2) {}
-    ConstrainedFaceBits(Vertex_handle v0, Vertex_handle v1, Vertex_handle v2, Face_handle n0, Face_handle n1,
-                        Face_handle n2)
-        : Fb(v0, v1, v2, n0, n1, n2)
-    {
-    }
-    ConstrainedFaceBits(Vertex_handle v0, Vertex_handle v1, Vertex_handle v2, Face_handle n0, Face_handle n1,
-                        Face_handle n2, bool c0, bool c1, bool c2)
-        : Fb(v0, v1, v2, n0, n1, n2)
-    {
-        set_constraints(c0, c1, c2);
-    }
-
-    bool is_constrained(int i) const { return ((this->info().constrained >> i) & 1u) != 0; }
-    void set_constraints(bool c0, bool c1, bool c2)
-    {
-        this->info().constrained = (c0 ? 1u : 0u) | (c1 ? 2u : 0u) | (c2 ? 4u : 0u);
-    }
-    void set_constraint(int i, bool b)
-    {
-        const std::uint32_t bit = 1u << i;
-        this->info().constrained = b ? (this->info().constrained | bit) : (this->info().constrained & ~bit);
-    }
-    void reorient()
-    {
-        Fb::reorient();
-        set_constraints(is_constrained(1), is_constrained(0), is_constrained(2));
-    }
-    void ccw_permute()
-    {
-        Fb::ccw_permute();
-        set_constraints(is_constrained(2), is_constrained(0), is_constrained(1));
-    }
-    void cw_permute()
-    {
-        Fb::cw_permute();
-        set_constraints(is_constrained(1), is_constrained(2), is_constrained(0));
-    }
-};
-
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = Kernel::Point_2;
 using Segment = Kernel::Segment_2;
 using Vb = CGAL::Triangulation_vertex_base_with_info_2<VertexInfo, Kernel>;
 using Fbi = CGAL::Triangulation_face_base_with_info_2<FaceInfo, Kernel>;
-using Fb = TrackedFace<Kernel, ConstrainedFaceBits<Kernel, Fbi>>;
+using Fb = TrackedFace<Kernel, Fbi>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
 using Itag = CGAL::No_constraint_intersection_requiring_constructions_tag;
 /// CtBase: the plain constrained triangulation whose edits make no Delaunay flips (the

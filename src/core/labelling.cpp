@@ -17,7 +17,7 @@ public:
         auto& tri = m_mesh.tri();
         for (auto f : tri.all_face_handles()) f->info().mark = cdt::k_no_label;
         m_steps.reserve(2 * feature_count + 16); // a feature's boundary is entered and left
-        const std::uint32_t outside = intern({});
+        const std::uint32_t outside = intern({}); // 0: label_faces relies on it
         // Breadth first, one wave after another: the order a FIFO queue gives, in two vectors
         // that keep their room (a deque allocated a block per 64 faces).
         std::vector<cdt::Face_handle> wave{tri.infinite_face()}, next;
@@ -107,14 +107,17 @@ FaceLabels label_faces(Mesh& mesh, std::size_t feature_count)
         const std::size_t lo = b * FaceLabels::k_block, hi = std::min(feature_count, lo + FaceLabels::k_block);
         out.blocks[b].resize(first[hi] - first[lo]);
     }
+    // The labels were kept in the faces' marks, which the searches use as stamps from here on:
+    // each finite face's mark goes back to 0 once placed. The infinite faces hold the outside
+    // label, which is 0 (interned first; they meet only across unconstrained edges).
     std::vector<std::size_t> next(first.begin(), first.end() - 1); // where feature f's next face goes
-    for (auto f : mesh.tri().finite_face_handles())
+    for (auto f : mesh.tri().finite_face_handles()) {
         for (std::uint32_t feature : out.sets[f->info().mark]) {
             const std::size_t b = feature / FaceLabels::k_block;
             out.blocks[b][next[feature]++ - first[b * FaceLabels::k_block]] = f;
         }
-    // The labels were kept in the faces' marks, which the searches use as stamps from here on.
-    for (auto f : mesh.tri().all_face_handles()) f->info().mark = 0;
+        f->info().mark = 0;
+    }
     return out;
 }
 

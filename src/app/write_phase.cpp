@@ -5,6 +5,7 @@
 #include "app/phases.hpp"
 
 #include "app/collapse_guard.hpp"
+#include "app/handoff.hpp"
 
 #include "io/io_error.hpp"
 #include "io/ogr_geometry.hpp"
@@ -61,97 +62,6 @@ private:
     std::unique_ptr<tiling::InFile> m_file;
 };
 
-class Writer {
-public:
-    Writer(Plan& plan, stitch::OutputMerger& merger, LayerWriter& writer, RunResult& result)
-        : m_plan(plan), m_merger(merger), m_writer(writer), m_result(result),
-          m_rejected(rejected_features(result.problems))
-    {
-    }
-    /// Features written so far, in all layers.
-    std::size_t written() const { return m_writer.written(); }
-    /// Feature `seq` (input position across all layers) of input layer `k`.
-    void feature(std::uint32_t k, std::size_t seq, const RecordEntry& e, OGRFeatureUniquePtr f);
-    [[noreturn]] void changed(std::uint32_t k, const std::string& what) const
-    {
-        throw io_error(m_plan.input_path, m_plan.layers[k]->GetName(),
-                       "the input changed while trisnap ran (" + what + "); run again on a stable copy");
-    }
-
-private:
-    void write(std::uint32_t k, std::int64_t fid, OGRFeature& f, OGRGeometry* geometry);
-    void vanished(std::uint32_t k, const RecordEntry& e, bool reported, bool rejected);
-
-    Plan& m_plan;
-    stitch::OutputMerger& m_merger;
-    LayerWriter& m_writer;
-    RunResult& m_result;
-    std::set<std::pair<std::uint32_t, std::int64_t>> m_rejected; ///< (layer, FID) the engine rejected (109)
-    stitch::OutputItem m_item;
-};
-
-// The values the format changed (903) go to the log as they are found, not held by the writer
-// until the end (their order in the log is the same: no other phase reports those codes).
-void Writer::write(std::uint32_t k, std::int64_t fid, OGRFeature& f, OGRGeometry* geometry)
-{
-    if (std::string error = m_writer.write(k, f, fid, geometry); !error.empty()) {
-        ++m_result.unwritable;
-        ++m_result.layers[k].unwritable;
-        m_result.problems.add(feature_problem(k, fid, ProblemCode::unwritable_feature, error));
-    }
-    for (Problem& p : m_writer.take_problems()) {
-        m_result.problems.add(std::move(p));
-    }
-}
-
-// A feature the engine returned empty: a problem says why, unless the read or the engine has
-// said something about it already (`reported`); `rejected`: the engine refused it (109), which
-// the collapse guard counts apart from collapses.
-void Writer::vanished(std::uint32_t k, const RecordEntry& e, bool reported, bool rejected)
-{
-    ++m_result.dropped;
-    ++m_result.layers[k].dropped;
-    if (rejected) {
-        ++m_result.dropped_rejected;
-    }
-    if (!reported) {
-        const auto type = static_cast<OGRwkbGeometryType>(e.type);
-        m_result.problems.add(feature_problem(k, e.fid, type == wkbPolygon || type == wkbMultiPolygon
-            ? ProblemCode::collapsed_polygon : ProblemCode::collapsed_line, "the feature vanished when snapped; not written"));
-    }
-}
-
-void Writer::feature(std::uint32_t k, std::size_t seq, const RecordEntry& e, OGRFeatureUniquePtr f)
-{
-    if (f->GetFID() != e.fid) {
-        changed(k, "feature " + std::to_string(seq + 1) + " has FID " + std::to_string(f->GetFID()) + ", was " + std::to_string(e.fid));
-    }
-    if (e.verdict == RecordEntry::rejected) {
-        return;
-    }
-    if (e.verdict == RecordEntry::pass) {
-        OGRGeometry* g = f->StealGeometry();
-        write(k, e.fid, *f, g);
-        return;
-    }
-    if (!m_merger.next(m_item) || m_item.seq != seq) {
-        changed(k, "the stitched features do not line up with the input");
-    }
-    const bool reported = e.problem || !m_item.problems.empty();
-    const bool rejected = m_rejected.count({k, e.fid}) > 0 ||
-                          std::any_of(m_item.problems.begin(), m_item.problems.end(), rejected_by_engine);
-    for (Problem& p : m_item.problems) {
-        p.layer = k;
-        m_result.problems.add(std::move(p));
-    }
-    if (m_item.output.geometry.empty()) {
-        vanished(k, e, reported, rejected);
-        return;
-    }
-    f->SetGeometryDirectly(nullptr);
-    write(k, e.fid, *f, to_ogr(m_item.output.geometry, static_cast<OGRwkbGeometryType>(e.type)));
-}
-
 /// While a layer is read again for its attributes only (no feature of it passes through with
 /// its own geometry), the driver is told to leave the geometries out too: GeoPackage then does
 /// not fetch or decode them. Fields already left out stay left out (trisnap leaves none out
@@ -202,31 +112,197 @@ private:
     bool m_active = false;
 };
 
-/// Input layer `k` read again, in step with its `count` entries of records.bin; `seq` is the
-/// input position of its first feature, and the position after its last is returned.
-std::size_t write_features(Plan& plan, std::uint32_t k, const LayerCounts& counts, std::size_t seq, RecordLog& log,
-                           Writer& w, Progress& progress, const InterruptGuard& interrupt)
-{
-    const std::size_t count = counts.input;
-    const GeometriesLeftOut left_out(plan, *plan.layers[k], counts.input != counts.rejected + counts.snapped);
-    LayerReader reader(*plan.dataset, *plan.layers[k], plan.layers);
+/// One input feature read again, lined up with its record and, when snapped, its stitched
+/// output: what the writer needs, prepared on the reading side of the phase.
+struct Ready {
+    std::uint32_t k = 0;                  ///< input layer
     RecordEntry e;
-    for (std::size_t i = 0; i < count; ++i, ++seq) {
-        if (!log.next(e)) {
-            throw tiling::work_error("damaged work file: records.bin is cut short");
+    OGRFeatureUniquePtr f;                ///< the input feature (attributes)
+    std::unique_ptr<OGRGeometry> geometry; ///< what to write: its own or the stitched one; null: none
+    std::vector<Problem> problems;         ///< the stitched feature's
+};
+
+/// The reading side: the layers read again in step with records.bin and the stitched features.
+/// It touches the input dataset, the work store and the merger only.
+class Preparer {
+public:
+    Preparer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerger& merger, const RunResult& result,
+             const InterruptGuard& interrupt)
+        : m_plan(plan), m_log(store), m_merger(merger), m_interrupt(interrupt)
+    {
+        for (const LayerCounts& c : result.layers) { // copied: the writing side updates the result
+            m_layers.push_back({c.input, c.input != c.rejected + c.snapped});
         }
-        interrupt.check();
-        OGRFeatureUniquePtr f = reader.next_raw();
-        if (!f) {
-            w.changed(k, "it now ends after " + std::to_string(i) + " features");
+    }
+    /// The next input feature, false after the last of the last layer.
+    bool next(Ready& r);
+
+private:
+    [[noreturn]] void changed(std::uint32_t k, const std::string& what) const
+    {
+        throw io_error(m_plan.input_path, m_plan.layers[k]->GetName(),
+                       "the input changed while trisnap ran (" + what + "); run again on a stable copy");
+    }
+    void open_layer();
+    void prepare(Ready& r);
+
+    Plan& m_plan;
+    RecordLog m_log;
+    stitch::OutputMerger& m_merger;
+    const InterruptGuard& m_interrupt;
+    struct Layer {
+        std::size_t input = 0;        ///< features read the first time
+        bool geometries_read = false; ///< some pass through with their own geometry
+    };
+    std::vector<Layer> m_layers;
+    std::uint32_t m_k = 0;    ///< the layer being read
+    std::size_t m_i = 0;      ///< features of it read
+    std::size_t m_seq = 0;    ///< input position across layers
+    std::unique_ptr<GeometriesLeftOut> m_left_out;
+    std::unique_ptr<LayerReader> m_reader;
+    stitch::OutputItem m_item;
+};
+
+void Preparer::open_layer()
+{
+    m_left_out = std::make_unique<GeometriesLeftOut>(m_plan, *m_plan.layers[m_k], m_layers[m_k].geometries_read);
+    m_reader = std::make_unique<LayerReader>(*m_plan.dataset, *m_plan.layers[m_k], m_plan.layers);
+    m_i = 0;
+}
+
+bool Preparer::next(Ready& r)
+{
+    for (;;) {
+        if (m_k >= m_plan.layers.size()) {
+            return false;
         }
-        w.feature(k, seq, e, std::move(f));
-        progress.update(static_cast<std::int64_t>(w.written()));
+        if (!m_reader) {
+            open_layer();
+        }
+        if (m_i < m_layers[m_k].input) {
+            break;
+        }
+        if (m_reader->next_raw()) {
+            changed(m_k, "it now has more than " + std::to_string(m_i) + " features");
+        }
+        m_reader.reset(); // before the ignored fields change back
+        m_left_out.reset();
+        ++m_k;
     }
-    if (reader.next_raw()) {
-        w.changed(k, "it now has more than " + std::to_string(count) + " features");
+    if (!m_log.next(r.e)) {
+        throw tiling::work_error("damaged work file: records.bin is cut short");
     }
-    return seq;
+    m_interrupt.check();
+    r.k = m_k;
+    r.f = m_reader->next_raw();
+    if (!r.f) {
+        changed(m_k, "it now ends after " + std::to_string(m_i) + " features");
+    }
+    prepare(r);
+    ++m_i;
+    ++m_seq;
+    return true;
+}
+
+void Preparer::prepare(Ready& r)
+{
+    if (r.f->GetFID() != r.e.fid) {
+        changed(r.k, "feature " + std::to_string(m_seq + 1) + " has FID " + std::to_string(r.f->GetFID()) + ", was " +
+                         std::to_string(r.e.fid));
+    }
+    if (r.e.verdict == RecordEntry::rejected) {
+        return;
+    }
+    if (r.e.verdict == RecordEntry::pass) {
+        r.geometry.reset(r.f->StealGeometry());
+        return;
+    }
+    if (!m_merger.next(m_item) || m_item.seq != m_seq) {
+        changed(r.k, "the stitched features do not line up with the input");
+    }
+    r.problems = std::move(m_item.problems);
+    m_item.problems.clear();
+    r.f->SetGeometryDirectly(nullptr);
+    if (!m_item.output.geometry.empty()) {
+        r.geometry.reset(to_ogr(m_item.output.geometry, static_cast<OGRwkbGeometryType>(r.e.type)));
+    }
+}
+
+/// The writing side: OUT's writer and the run's counts and problems.
+class Writer {
+public:
+    Writer(LayerWriter& writer, RunResult& result)
+        : m_writer(writer), m_result(result), m_rejected(rejected_features(result.problems))
+    {
+    }
+    /// Features written so far, in all layers.
+    std::size_t written() const { return m_writer.written(); }
+    void feature(Ready& r);
+
+private:
+    void write(std::uint32_t k, std::int64_t fid, OGRFeature& f, std::unique_ptr<OGRGeometry>& geometry);
+    void vanished(std::uint32_t k, const RecordEntry& e, bool reported, bool rejected);
+
+    LayerWriter& m_writer;
+    RunResult& m_result;
+    std::set<std::pair<std::uint32_t, std::int64_t>> m_rejected; ///< (layer, FID) the engine rejected (109)
+};
+
+// The values the format changed (903) go to the log as they are found, not held by the writer
+// until the end (their order in the log is the same: no other phase reports those codes).
+void Writer::write(std::uint32_t k, std::int64_t fid, OGRFeature& f, std::unique_ptr<OGRGeometry>& geometry)
+{
+    // The geometry comes back to the item, to be freed with it on the reading side.
+    if (std::string error = m_writer.write_lending(k, f, fid, geometry); !error.empty()) {
+        ++m_result.unwritable;
+        ++m_result.layers[k].unwritable;
+        m_result.problems.add(feature_problem(k, fid, ProblemCode::unwritable_feature, error));
+    }
+    for (Problem& p : m_writer.take_problems()) {
+        m_result.problems.add(std::move(p));
+    }
+}
+
+// A feature the engine returned empty: a problem says why, unless the read or the engine has
+// said something about it already (`reported`); `rejected`: the engine refused it (109), which
+// the collapse guard counts apart from collapses.
+void Writer::vanished(std::uint32_t k, const RecordEntry& e, bool reported, bool rejected)
+{
+    ++m_result.dropped;
+    ++m_result.layers[k].dropped;
+    if (rejected) {
+        ++m_result.dropped_rejected;
+    }
+    if (!reported) {
+        const auto type = static_cast<OGRwkbGeometryType>(e.type);
+        m_result.problems.add(feature_problem(k, e.fid, type == wkbPolygon || type == wkbMultiPolygon
+            ? ProblemCode::collapsed_polygon : ProblemCode::collapsed_line, "the feature vanished when snapped; not written"));
+    }
+}
+
+void Writer::feature(Ready& r)
+{
+    const std::uint32_t k = r.k;
+    const RecordEntry& e = r.e;
+    if (e.verdict == RecordEntry::rejected) {
+        return;
+    }
+    if (e.verdict == RecordEntry::pass) {
+        write(k, e.fid, *r.f, r.geometry);
+        return;
+    }
+    const bool reported = e.problem || !r.problems.empty();
+    const bool rejected = m_rejected.count({k, e.fid}) > 0 ||
+                          std::any_of(r.problems.begin(), r.problems.end(), rejected_by_engine);
+    for (Problem& p : r.problems) {
+        p.layer = k;
+        m_result.problems.add(std::move(p));
+    }
+    if (!r.geometry) {
+        vanished(k, e, reported, rejected);
+        return;
+    }
+    write(k, e.fid, *r.f, r.geometry);
 }
 
 } // namespace
@@ -234,16 +310,19 @@ std::size_t write_features(Plan& plan, std::uint32_t k, const LayerCounts& count
 void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerger& merger, LayerWriter& writer,
                  RunResult& result, Progress& progress, const InterruptGuard& interrupt)
 {
-    RecordLog log(store);
     result.problems.begin_phase("problems-write-"); // runs of a write that stopped go
-    Writer w(plan, merger, writer, result);
+    Preparer input(plan, store, merger, result, interrupt);
+    Writer w(writer, result);
     // The count is what went into OUT, of the features read: a bar at 292/292 for a layer that
     // collapsed entirely (--force) said "written" of features that were not.
     progress.start("write", static_cast<std::int64_t>(result.input), "features written");
-    std::size_t seq = 0;
-    for (std::size_t k = 0; k < plan.layers.size(); ++k) {
-        seq = write_features(plan, static_cast<std::uint32_t>(k), result.layers[k], seq, log, w, progress, interrupt);
-    }
+    // Reading and stitching on one side, writing OUT on the other: on two threads at once when
+    // the run has them (app/handoff.hpp); the features reach OUT in input order either way.
+    hand_off<Ready>(io_on_two_threads(plan), HandoffShape{}, [&](Ready& r) { return input.next(r); },
+                    [&](Ready& r) {
+                        w.feature(r);
+                        progress.update(static_cast<std::int64_t>(w.written()));
+                    });
     progress.finish(static_cast<std::int64_t>(w.written()));
     interrupt.check();
     // Before OUT is committed: nothing goes into place. Features of failed tiles (303) are not

@@ -301,6 +301,13 @@ void LayerWriter::fail_finishing(const std::string& gdal_message) const
 
 std::string LayerWriter::write(std::size_t layer, const OGRFeature& source, std::int64_t fid, OGRGeometry* geometry)
 {
+    std::unique_ptr<OGRGeometry> owned(geometry);
+    return write_lending(layer, source, fid, owned);
+}
+
+std::string LayerWriter::write_lending(std::size_t layer, const OGRFeature& source, std::int64_t fid,
+                                       std::unique_ptr<OGRGeometry>& geometry)
+{
     Target& t = m_targets[layer];
     ScopedErrorCapture capture;
     OGRFeatureUniquePtr out(OGRFeature::CreateFeature(t.layer->GetLayerDefn()));
@@ -311,7 +318,12 @@ std::string LayerWriter::write(std::size_t layer, const OGRFeature& source, std:
     if (t.keeps_fids) {
         out->SetFID(fid);
     }
-    out->SetGeometryDirectly(geometry);
+    out->SetGeometryDirectly(geometry.release());
+    struct GiveBack { // on every way out, the geometry goes back to the caller
+        OGRFeature& out;
+        std::unique_ptr<OGRGeometry>& geometry;
+        ~GiveBack() { geometry.reset(out.StealGeometry()); }
+    } give_back{*out, geometry};
     const bool refused = t.layer->CreateFeature(out.get()) != OGRERR_NONE;
     throw_if_write_failed();
     if (refused && m_in_place) {

@@ -84,6 +84,10 @@ public:
     /// may be null). Returns "" on success, else the driver's message (problem 902). Throws
     /// io_error when a write to disk failed (full disk, file size limit): the run cannot go on.
     std::string write(std::size_t layer, const OGRFeature& source, std::int64_t fid, OGRGeometry* geometry);
+    /// write() with `geometry` lent, not given: handed back after the write (whatever its
+    /// outcome), so that the thread that made it can free it (app/handoff.hpp).
+    std::string write_lending(std::size_t layer, const OGRFeature& source, std::int64_t fid,
+                              std::unique_ptr<OGRGeometry>& geometry);
     /// write() to the first (or only) layer.
     std::string write(const OGRFeature& source, std::int64_t fid, OGRGeometry* geometry)
     {

@@ -1,0 +1,160 @@
+// The read and write phases' two stages (src/app/handoff.hpp): the consumer sees the reader's
+// sequence whatever the threads; the reader runs ahead by a bounded number of items; what the
+// reader made is freed on the reader's thread; an error on either side reaches the caller, the
+// reader's after what it read before it was consumed, the consumer's stopping the reader.
+#include "app/handoff.hpp"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstddef>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+namespace trisnap {
+namespace {
+
+/// Notes the thread that frees it.
+struct Freed {
+    std::thread::id* where = nullptr;
+    ~Freed()
+    {
+        if (where != nullptr) {
+            *where = std::this_thread::get_id();
+        }
+    }
+};
+
+struct Item {
+    std::size_t n = 0;
+    std::unique_ptr<Freed> payload;
+};
+
+TEST(Handoff, ConsumerSeesTheReadersSequenceOnOneOrTwoThreads)
+{
+    for (const bool two : {false, true}) {
+        for (const HandoffShape shape : {HandoffShape{}, HandoffShape{1, 1}, HandoffShape{7, 2}}) {
+            const std::size_t count = 1000;
+            std::size_t next = 0;
+            std::vector<std::size_t> seen;
+            hand_off<Item>(two, shape,
+                           [&](Item& item) {
+                               if (next == count) {
+                                   return false;
+                               }
+                               item.n = next++;
+                               return true;
+                           },
+                           [&](Item& item) { seen.push_back(item.n); });
+            ASSERT_EQ(seen.size(), count) << "two threads " << two << ", batch " << shape.batch;
+            for (std::size_t i = 0; i < count; ++i) {
+                ASSERT_EQ(seen[i], i) << "out of order at " << i << ", two threads " << two;
+            }
+        }
+    }
+}
+
+TEST(Handoff, NothingToReadConsumesNothing)
+{
+    for (const bool two : {false, true}) {
+        std::size_t consumed = 0;
+        hand_off<Item>(two, HandoffShape{}, [](Item&) { return false; }, [&](Item&) { ++consumed; });
+        EXPECT_EQ(consumed, 0u);
+    }
+}
+
+TEST(Handoff, ReaderRunsAheadByABoundedNumberOfItems)
+{
+    const HandoffShape shape{5, 3};
+    std::atomic<std::size_t> read{0};
+    std::size_t consumed = 0, most_ahead = 0;
+    hand_off<Item>(true, shape,
+                   [&](Item& item) {
+                       if (read == 2000) {
+                           return false;
+                       }
+                       item.n = read++;
+                       return true;
+                   },
+                   [&](Item&) {
+                       most_ahead = std::max(most_ahead, read.load() - consumed);
+                       ++consumed;
+                       if (consumed % 100 == 0) {
+                           std::this_thread::sleep_for(std::chrono::milliseconds(1)); // let the reader fill up
+                       }
+                   });
+    EXPECT_EQ(consumed, 2000u);
+    // tokens full batches queued, the one being consumed, the one being filled.
+    EXPECT_LE(most_ahead, shape.batch * (shape.tokens + 2));
+    EXPECT_GE(most_ahead, shape.batch * shape.tokens) << "the reader never got ahead: not two threads?";
+}
+
+TEST(Handoff, WhatTheReaderMadeIsFreedOnItsThread)
+{
+    const std::size_t count = 64 * 20;
+    std::vector<std::thread::id> freed_on(count);
+    std::thread::id reader;
+    std::size_t next = 0;
+    hand_off<Item>(true, HandoffShape{64, 4},
+                   [&](Item& item) {
+                       reader = std::this_thread::get_id();
+                       if (next == count) {
+                           return false;
+                       }
+                       item.n = next;
+                       item.payload = std::make_unique<Freed>(Freed{&freed_on[next]});
+                       ++next;
+                       return true;
+                   },
+                   [&](Item&) {});
+    ASSERT_NE(reader, std::this_thread::get_id()) << "the reader had no thread of its own";
+    // The batches still in flight when the reader ended are freed by the caller: at most the
+    // tokens' worth (plus the last, partial batch).
+    std::size_t on_reader = 0;
+    for (const std::thread::id& id : freed_on) {
+        on_reader += id == reader ? 1 : 0;
+    }
+    EXPECT_GE(on_reader, count - 64 * 5) << "items were freed on the consumer's thread";
+}
+
+TEST(Handoff, ReadersErrorComesAfterWhatItReadBefore)
+{
+    for (const bool two : {false, true}) {
+        std::size_t next = 0;
+        std::vector<std::size_t> seen;
+        EXPECT_THROW(hand_off<Item>(two, HandoffShape{8, 2},
+                                    [&](Item& item) {
+                                        if (next == 100) {
+                                            throw std::runtime_error("damaged");
+                                        }
+                                        item.n = next++;
+                                        return true;
+                                    },
+                                    [&](Item& item) { seen.push_back(item.n); }),
+                     std::runtime_error);
+        EXPECT_EQ(seen.size(), 100u) << "two threads " << two << ": every item read before the error is consumed";
+    }
+}
+
+TEST(Handoff, ConsumersErrorStopsTheReader)
+{
+    std::atomic<std::size_t> read{0};
+    EXPECT_THROW(hand_off<Item>(true, HandoffShape{4, 2},
+                                [&](Item& item) {
+                                    item.n = read++;
+                                    return true; // endless: only the consumer's error ends it
+                                },
+                                [&](Item& item) {
+                                    if (item.n == 50) {
+                                        throw std::logic_error("write failed");
+                                    }
+                                }),
+                 std::logic_error);
+    EXPECT_LE(read.load(), 50u + 4 * 4) << "the reader went on after the consumer failed";
+}
+
+} // namespace
+} // namespace trisnap

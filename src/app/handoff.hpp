@@ -27,10 +27,12 @@
 
 namespace trisnap {
 
-/// How a phase's two stages are cut: items per batch and batches in flight.
+/// How a phase's two stages are cut: a batch closes at `batch` items or once its items weigh
+/// `batch_weight` (T::weight(): the features' vertices), and at most `tokens` wait.
 struct HandoffShape {
     std::size_t batch = 64;
     std::size_t tokens = 4;
+    std::size_t batch_weight = std::size_t{1} << 16;
 };
 
 namespace detail {
@@ -121,7 +123,9 @@ private:
 
 /// Calls `read(item)` until it returns false, and `consume(item)` on every item it filled, in
 /// that order. With `two_threads`, reading runs on a thread of its own, ahead of consuming by
-/// at most shape.batch * shape.tokens items; without, it is a plain loop on this thread.
+/// at most tokens + 2 batches (those waiting, the one consumed, the one filled), each of at
+/// most `batch` items and `batch_weight` plus one item's weight; without, it is a plain loop
+/// on this thread.
 template <class T, class Read, class Consume>
 void hand_off(bool two_threads, const HandoffShape& shape, Read&& read, Consume&& consume)
 {
@@ -140,16 +144,19 @@ void hand_off(bool two_threads, const HandoffShape& shape, Read&& read, Consume&
         std::vector<T> batch;
         try {
             batch.reserve(shape.batch);
+            std::size_t weight = 0;
             for (bool more = true; more;) {
                 T item{};
                 more = read(item);
                 if (more) {
+                    weight += item.weight();
                     batch.push_back(std::move(item));
                 }
-                if ((!more && !batch.empty()) || batch.size() == shape.batch) {
+                if ((!more && !batch.empty()) || batch.size() == shape.batch || weight >= shape.batch_weight) {
                     if (!handoff.send(batch)) {
                         break;
                     }
+                    weight = 0;
                 }
             }
         } catch (...) {

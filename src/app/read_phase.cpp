@@ -84,6 +84,7 @@ struct ReadItem {
     std::size_t vertices = 0;          ///< of its geometry to snap
     bool smaller = false;              ///< that geometry is smaller than the tolerance
     std::int64_t count_hint = -1;      ///< kind layer_start: the driver's count of the layer
+    std::size_t weight() const { return vertices; } ///< what it holds in memory (app/handoff.hpp)
 };
 
 /// The reading side: the layers one after the other, in input order, each feature read,

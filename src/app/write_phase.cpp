@@ -120,6 +120,8 @@ struct Ready {
     OGRFeatureUniquePtr f;                ///< the input feature (attributes)
     std::unique_ptr<OGRGeometry> geometry; ///< what to write: its own or the stitched one; null: none
     std::vector<Problem> problems;         ///< the stitched feature's
+    std::size_t vertices = 0;              ///< of `geometry`
+    std::size_t weight() const { return vertices; } ///< what it holds in memory (app/handoff.hpp)
 };
 
 /// The reading side: the layers read again in step with records.bin and the stitched features.
@@ -215,6 +217,7 @@ void Preparer::prepare(Ready& r)
     }
     if (r.e.verdict == RecordEntry::pass) {
         r.geometry.reset(r.f->StealGeometry());
+        r.vertices = count_vertices(r.geometry.get());
         return;
     }
     if (!m_merger.next(m_item) || m_item.seq != m_seq) {
@@ -225,6 +228,7 @@ void Preparer::prepare(Ready& r)
     r.f->SetGeometryDirectly(nullptr);
     if (!m_item.output.geometry.empty()) {
         r.geometry.reset(to_ogr(m_item.output.geometry, static_cast<OGRwkbGeometryType>(r.e.type)));
+        r.vertices = count_vertices(r.geometry.get());
     }
 }
 

@@ -31,6 +31,8 @@ struct Freed {
 struct Item {
     std::size_t n = 0;
     std::unique_ptr<Freed> payload;
+    std::size_t vertices = 1;
+    std::size_t weight() const { return vertices; }
 };
 
 TEST(Handoff, ConsumerSeesTheReadersSequenceOnOneOrTwoThreads)
@@ -90,6 +92,33 @@ TEST(Handoff, ReaderRunsAheadByABoundedNumberOfItems)
     // tokens full batches queued, the one being consumed, the one being filled.
     EXPECT_LE(most_ahead, shape.batch * (shape.tokens + 2));
     EXPECT_GE(most_ahead, shape.batch * shape.tokens) << "the reader never got ahead: not two threads?";
+}
+
+TEST(Handoff, HeavyItemsMakeSmallBatches)
+{
+    // Features of 300 vertices, batches closed at 1000 vertices: 4 features a batch, however
+    // many the count allows, so the memory in flight follows the vertices.
+    const HandoffShape shape{64, 2, 1000};
+    std::atomic<std::size_t> read{0};
+    std::size_t consumed = 0, most_ahead = 0;
+    hand_off<Item>(true, shape,
+                   [&](Item& item) {
+                       if (read == 500) {
+                           return false;
+                       }
+                       item.n = read++;
+                       item.vertices = 300;
+                       return true;
+                   },
+                   [&](Item&) {
+                       most_ahead = std::max(most_ahead, read.load() - consumed);
+                       ++consumed;
+                       if (consumed % 20 == 0) {
+                           std::this_thread::sleep_for(std::chrono::milliseconds(1));
+                       }
+                   });
+    EXPECT_EQ(consumed, 500u);
+    EXPECT_LE(most_ahead, 4 * (shape.tokens + 2)) << "batches were not closed by weight";
 }
 
 TEST(Handoff, WhatTheReaderMadeIsFreedOnItsThread)

@@ -1,7 +1,7 @@
 #pragma once
 // A phase in two stages that run at once on two threads: one that reads (GDAL's reader, and
-// whatever prepares an item) and one that consumes the items in the order read (the spool, or
-// OUT's writer). The consumer sees exactly the sequence a loop would give it, so the output
+// whatever prepares an item) and one that consumes the items in the order read (OUT's writer:
+// app/write_phase.cpp says when it pays). The consumer sees exactly the sequence a loop would give it, so the output
 // does not depend on the thread count; with one thread it is that loop. At most `tokens`
 // batches are in flight: memory stays bounded by the batch size, not by the layer.
 //
@@ -32,7 +32,7 @@ namespace trisnap {
 struct HandoffShape {
     std::size_t batch = 64;
     std::size_t tokens = 4;
-    std::size_t batch_weight = std::size_t{1} << 16;
+    std::size_t batch_weight = std::size_t{1} << 14;
 };
 
 namespace detail {

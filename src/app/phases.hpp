@@ -52,10 +52,6 @@ struct ReadSummary {
     std::vector<LayerRead> layers;  ///< per input layer, in --layer order
 };
 
-/// True when the run may use two threads for the read and write phases' two stages
-/// (app/handoff.hpp): [run] threads is 0 (all cores) on a machine with two, or 2 or more.
-bool io_on_two_threads(const Plan& plan);
-
 /// What the read phase holds in memory at most: the plan's vertex sample, the FIDs sorted at
 /// once by the uniqueness check, the problems buffered before they go to the store.
 struct ReadBuffers {

@@ -4,8 +4,6 @@
 #include "app/phases.hpp"
 
 #include "app/collapse_guard.hpp"
-#include "app/command.hpp"
-#include "app/handoff.hpp"
 #include "io/io_error.hpp"
 #include "io/ogr_geometry.hpp"
 #include "io/reader.hpp"
@@ -75,143 +73,58 @@ void save_read(tiling::WorkStore& store, const ReadSummary& s)
     store.put(k_read, bytes);
 }
 
-/// What the reading side hands over: a feature of layer `k`, or where a layer starts or ends.
-struct ReadItem {
-    enum Kind : std::uint8_t { feature, layer_start, layer_end };
-    Kind kind = feature;
-    std::uint32_t k = 0;
-    std::optional<InputFeature> read;  ///< kind feature
-    std::size_t vertices = 0;          ///< of its geometry to snap
-    bool smaller = false;              ///< that geometry is smaller than the tolerance
-    std::int64_t count_hint = -1;      ///< kind layer_start: the driver's count of the layer
-    std::size_t weight() const { return vertices; } ///< what it holds in memory (app/handoff.hpp)
+/// What one layer's read goes into.
+struct ReadTarget {
+    ReadSummary& summary;
+    stitch::FeatureSpool& spool;
+    tiling::OutFile& records;
+    Progress& progress;
+    const InterruptGuard& interrupt;
+    double tolerance;
 };
 
-/// The reading side: the layers one after the other, in input order, each feature read,
-/// classified and measured. It touches the input dataset only.
-class LayerFeed {
-public:
-    LayerFeed(Plan& plan, const InterruptGuard& interrupt) : m_plan(plan), m_interrupt(interrupt) {}
-    bool next(ReadItem& item)
-    {
-        if (m_k >= m_plan.layers.size()) {
-            return false;
+// One layer, in input order; its problems are tagged with its index `k`.
+void read_features(LayerReader& reader, std::uint32_t k, ReadTarget& to)
+{
+    ReadSummary& s = to.summary;
+    LayerRead& layer = s.layers.emplace_back();
+    std::vector<Problem> found; // one feature's
+    char entry[RecordEntry::k_bytes];
+    while (auto feature = reader.next()) {
+        to.interrupt.check();
+        found.clear();
+        if (feature->problem) {
+            found.push_back(*feature->problem);
         }
-        item.k = static_cast<std::uint32_t>(m_k);
-        if (!m_reader) {
-            m_ignored = std::make_unique<IgnoredAttributes>(*m_plan.layers[m_k]);
-            m_reader = std::make_unique<LayerReader>(*m_plan.dataset, *m_plan.layers[m_k], m_plan.layers);
-            item.kind = ReadItem::layer_start;
-            item.count_hint = m_k == 0 && m_plan.feature_count < 0 ? m_reader->count_hint() : m_plan.feature_count;
-            return true;
-        }
-        m_interrupt.check();
-        item.read = m_reader->next();
-        if (!item.read) {
-            m_reader.reset();
-            m_ignored.reset();
-            ++m_k;
-            item.kind = ReadItem::layer_end;
-            return true;
-        }
-        item.read->feature.reset(); // attributes are read again when writing
-        if (item.read->geometry) {
-            item.vertices = vertices_of(*item.read->geometry);
-            item.smaller = smaller_than_tolerance(*item.read->geometry, m_plan.tolerance);
-        }
-        return true;
-    }
-
-private:
-    Plan& m_plan;
-    const InterruptGuard& m_interrupt;
-    std::size_t m_k = 0;
-    std::unique_ptr<IgnoredAttributes> m_ignored;
-    std::unique_ptr<LayerReader> m_reader;
-};
-
-/// The consuming side: the spool, records.bin, the summary and its problems.
-class ReadSink {
-public:
-    ReadSink(ReadSummary& summary, stitch::FeatureSpool& spool, tiling::OutFile& records, Progress& progress, bool layers)
-        : m_summary(summary), m_spool(spool), m_records(records), m_progress(progress), m_several_layers(layers)
-    {
-    }
-    void take(ReadItem& item)
-    {
-        switch (item.kind) {
-        case ReadItem::layer_start:
-            m_summary.layers.emplace_back();
-            if (item.k == 0) {
-                m_progress.start("plan", item.count_hint);
-            }
-            return;
-        case ReadItem::layer_end:
-            end_layer(item.k);
-            return;
-        case ReadItem::feature:
-            feature(item);
-            return;
-        }
-    }
-
-private:
-    // One feature, in input order; its problems are tagged with its layer's index.
-    void feature(ReadItem& item)
-    {
-        ReadSummary& s = m_summary;
-        LayerRead& layer = s.layers.back();
-        InputFeature& in = *item.read;
-        m_found.clear();
-        if (in.problem) {
-            m_found.push_back(*in.problem);
-        }
-        RecordEntry e{in.fid, RecordEntry::pass, false, static_cast<std::uint32_t>(in.input_type)};
-        if (in.rejected) {
+        RecordEntry e{feature->fid, RecordEntry::pass, false, static_cast<std::uint32_t>(feature->input_type)};
+        if (feature->rejected) {
             e.verdict = RecordEntry::rejected;
             ++layer.rejected;
-            m_spool.skip(in.fid);
-        } else if (in.geometry) {
+            to.spool.skip(feature->fid);
+        } else if (feature->geometry) {
             e.verdict = RecordEntry::snap;
-            layer.input_vertices += item.vertices;
-            s.smaller += item.smaller ? 1 : 0;
+            layer.input_vertices += vertices_of(*feature->geometry);
+            s.smaller += smaller_than_tolerance(*feature->geometry, to.tolerance) ? 1 : 0;
             ++layer.snapped;
-            m_spool.add(s.records, in.fid, *in.geometry, m_found);
+            to.spool.add(s.records, feature->fid, *feature->geometry, found);
         } else {
-            m_spool.skip(in.fid);
+            to.spool.skip(feature->fid);
         }
-        e.problem = !m_found.empty();
-        for (Problem& p : m_found) {
-            p.layer = item.k;
+        e.problem = !found.empty();
+        for (Problem& p : found) {
+            p.layer = k;
             s.problems.add(std::move(p));
         }
-        char entry[RecordEntry::k_bytes];
         e.encode(entry);
-        m_records.write(std::string_view(entry, sizeof entry));
+        to.records.write(std::string_view(entry, sizeof entry));
         ++s.records;
         ++layer.records;
-        m_progress.update(static_cast<std::int64_t>(s.records));
+        to.progress.update(static_cast<std::int64_t>(s.records));
     }
-
-    void end_layer(std::uint32_t k)
-    {
-        ReadSummary& s = m_summary;
-        LayerRead& layer = s.layers.back();
-        layer.problems = s.problems.in_layer(k);
-        s.rejected += layer.rejected;
-        s.input_vertices += layer.input_vertices;
-        if (m_several_layers) {
-            layer.fids_unique = m_spool.end_layer();
-        }
-    }
-
-    ReadSummary& m_summary;
-    stitch::FeatureSpool& m_spool;
-    tiling::OutFile& m_records;
-    Progress& m_progress;
-    bool m_several_layers;
-    std::vector<Problem> m_found; ///< one feature's
-};
+    layer.problems = s.problems.in_layer(k);
+    s.rejected += layer.rejected;
+    s.input_vertices += layer.input_vertices;
+}
 
 } // namespace
 
@@ -224,12 +137,18 @@ ReadSummary read_layer(Plan& plan, tiling::WorkStore& store, const ReadBuffers& 
     {
         stitch::FeatureSpool spool(store, plan.options.tolerance, buffers.sample_vertices, buffers.fids);
         const std::unique_ptr<tiling::OutFile> records = store.create(k_records_file);
-        // Reading and classifying on one side, cleaning and spooling on the other: on two
-        // threads at once when the run has them (app/handoff.hpp), in input order either way.
-        LayerFeed feed(plan, interrupt);
-        ReadSink sink(s, spool, *records, progress, plan.layers.size() > 1);
-        hand_off<ReadItem>(io_on_two_threads(plan), HandoffShape{}, [&](ReadItem& item) { return feed.next(item); },
-                           [&](ReadItem& item) { sink.take(item); });
+        ReadTarget to{s, spool, *records, progress, interrupt, plan.tolerance};
+        for (std::size_t k = 0; k < plan.layers.size(); ++k) {
+            const IgnoredAttributes ignored(*plan.layers[k]);
+            LayerReader reader(*plan.dataset, *plan.layers[k], plan.layers);
+            if (k == 0) {
+                progress.start("plan", plan.feature_count >= 0 ? plan.feature_count : reader.count_hint());
+            }
+            read_features(reader, static_cast<std::uint32_t>(k), to);
+            if (plan.layers.size() > 1) {
+                s.layers.back().fids_unique = spool.end_layer();
+            }
+        }
         progress.finish();
         records->commit();
         s.meta = spool.finish();
@@ -241,12 +160,6 @@ ReadSummary read_layer(Plan& plan, tiling::WorkStore& store, const ReadBuffers& 
     s.problems.seal();
     save_read(store, s);
     return s;
-}
-
-bool io_on_two_threads(const Plan& plan)
-{
-    const int threads = plan.tiling.threads > 0 ? plan.tiling.threads : available_cores();
-    return threads >= 2;
 }
 
 void check_read(const Plan& plan, std::size_t features, std::size_t smaller)

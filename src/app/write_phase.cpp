@@ -5,6 +5,7 @@
 #include "app/phases.hpp"
 
 #include "app/collapse_guard.hpp"
+#include "app/command.hpp"
 #include "app/handoff.hpp"
 
 #include "io/io_error.hpp"
@@ -309,6 +310,20 @@ void Writer::feature(Ready& r)
     write(k, e.fid, *r.f, r.geometry);
 }
 
+/// Whether the write phase hands features to a writer thread (app/handoff.hpp). It pays where
+/// a feature's fixed cost (its SQLite row, its attributes) outweighs its vertices, and loses
+/// where features are large: measured 2026-11-28 at 2 threads, medians of 3 (bench/results/
+/// REPORT.md, "A writer thread"): the write phase -10 % on Jakarta buildings (5 vertices a
+/// feature) and Andorra x43 (7.7), +30 % on Natural Earth land (39: each big geometry is made on
+/// one core and encoded on the other). Reading beside the spool was tried too and gained nothing
+/// (the same section).
+bool writer_thread_pays(const Plan& plan, const RunResult& result)
+{
+    constexpr std::size_t k_most_vertices_per_feature = 16;
+    const int threads = plan.tiling.threads > 0 ? plan.tiling.threads : available_cores();
+    return threads >= 2 && result.input_vertices <= k_most_vertices_per_feature * result.input;
+}
+
 } // namespace
 
 void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerger& merger, LayerWriter& writer,
@@ -321,8 +336,9 @@ void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerge
     // collapsed entirely (--force) said "written" of features that were not.
     progress.start("write", static_cast<std::int64_t>(result.input), "features written");
     // Reading and stitching on one side, writing OUT on the other: on two threads at once when
-    // the run has them (app/handoff.hpp); the features reach OUT in input order either way.
-    hand_off<Ready>(io_on_two_threads(plan), HandoffShape{}, [&](Ready& r) { return input.next(r); },
+    // the run has them and it pays (app/handoff.hpp); the features reach OUT in input order
+    // either way.
+    hand_off<Ready>(writer_thread_pays(plan, result), HandoffShape{}, [&](Ready& r) { return input.next(r); },
                     [&](Ready& r) {
                         w.feature(r);
                         progress.update(static_cast<std::int64_t>(w.written()));

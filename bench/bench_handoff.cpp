@@ -1,6 +1,7 @@
 // Does handing features from one thread to another pay on this machine? GDAL alone, no trisnap
-// code: the numbers behind bench/results/REPORT.md, "Why handing features between threads does
-// not pay on this machine", and the reason trisnap's write phase has no writer thread.
+// code: the numbers behind bench/results/REPORT.md, "Handing features between threads: freeing
+// them on the wrong thread is what loses", and the reason trisnap's writer thread (app/handoff.hpp) frees each
+// batch on the thread that made it.
 //   read                 the layer read (geometry envelope per feature), one thread;
 //   write                features read earlier cloned and written to a new GeoPackage (no
 //                        spatial index, one transaction), one thread;

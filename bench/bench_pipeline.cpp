@@ -172,8 +172,10 @@ void bm_pipeline(benchmark::State& state, const DataSet& data, const OutputForma
         state.SkipWithError(message.c_str());
         return;
     }
-    const SnapArgs args = snap_args(data, input, format);
+    SnapArgs args = snap_args(data, input, format);
+    args.threads = static_cast<int>(state.range(0)); // as --threads N (write_s: the writer thread)
     const Config config = resolve_config(args);
+    const ThreadLimit limit(config.run.threads);
     Totals totals;
     PeakMemory memory;
     for (auto _ : state) {
@@ -258,7 +260,7 @@ void register_benchmarks() {
             const std::string name = std::string("BM_Pipeline/") + data.name + "/" + format.name;
             benchmark::RegisterBenchmark(name.c_str(), [&data, &format](benchmark::State& state) {
                 bm_pipeline(state, data, format);
-            })->MeasureProcessCPUTime()->UseRealTime()->Unit(benchmark::kMillisecond);
+            })->ArgName("threads")->Arg(1)->Arg(2)->MeasureProcessCPUTime()->UseRealTime()->Unit(benchmark::kMillisecond);
         }
 }
 

@@ -1,9 +1,9 @@
 #pragma once
 // A phase in two stages that run at once on two threads: one that reads (GDAL's reader, and
 // whatever prepares an item) and one that consumes the items in the order read (OUT's writer:
-// app/write_phase.cpp says when it pays). The consumer sees exactly the sequence a loop would give it, so the output
-// does not depend on the thread count; with one thread it is that loop. At most `tokens`
-// batches are in flight: memory stays bounded by the batch size, not by the layer.
+// app/write_phase.cpp says when it pays). The consumer sees exactly the sequence a loop would
+// give it, so the output does not depend on the thread count; with one thread it is that loop.
+// At most `tokens` batches wait: memory stays bounded by the batch size, not by the layer.
 //
 // Not a tbb::parallel_pipeline (the house default), for the allocator: TBB runs a filter on
 // whichever thread takes the token, so what the reading stage allocated (GDAL's features, the
@@ -15,8 +15,8 @@
 //
 // Each stage touches only its own state: the reader stage its dataset, the consumer stage its
 // outputs. An exception in the reading stage reaches the caller after the items read before it
-// were consumed (what the loop does); one in the consuming stage stops the reader and is
-// rethrown at once. Either way on the calling thread.
+// were consumed (what the loop does); one in the consuming stage stops the reader (once its
+// current read returns) and is rethrown. Either way on the calling thread.
 #include <condition_variable>
 #include <cstddef>
 #include <deque>

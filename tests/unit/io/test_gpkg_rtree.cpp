@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <random>
 #include <set>
 
@@ -373,6 +374,46 @@ TEST(GpkgIndex, AnEmptyLayerGetsAnEmptyIndex)
     ASSERT_TRUE(ds);
     EXPECT_EQ(text(*ds, "SELECT rtreecheck('rtree_parcels_geom')"), "ok");
     EXPECT_EQ(text(*ds, "SELECT count(*) FROM rtree_parcels_geom"), "0");
+}
+
+// The writer thread's write (app/write_phase.cpp): the geometry is lent, not given. After each
+// write the caller holds the very object it lent, unchanged, and the file and its index hold
+// the features as written.
+TEST(GpkgIndex, LentGeometriesComeBackAndAreWritten)
+{
+    test::ScratchDir dir;
+    const std::string path = (dir.path() / "lent.gpkg").string();
+    Source s = memory_source();
+    WriteOptions options;
+    options.path = path;
+    std::vector<std::unique_ptr<OGRGeometry>> kept;
+    {
+        LayerWriter writer(options, *s.layer);
+        OGRFeature feature(s.layer->GetLayerDefn());
+        for (int i = 0; i < 50; ++i) {
+            feature.SetField(0, std::to_string(i).c_str());
+            std::unique_ptr<OGRGeometry> g(square(10.0 * i, 0, 1 + i % 3));
+            const OGRGeometry* lent = g.get();
+            const std::unique_ptr<OGRGeometry> copy(g->clone());
+            ASSERT_EQ(writer.write_lending(0, feature, i + 1, g), "");
+            ASSERT_EQ(g.get(), lent) << "feature " << i << ": not the geometry lent";
+            EXPECT_TRUE(g->Equals(copy.get())) << "feature " << i << ": changed by the write";
+            kept.push_back(std::move(g));
+        }
+        writer.commit();
+    }
+    auto ds = open(path, false);
+    ASSERT_TRUE(ds);
+    OGRLayer* layer = ds->GetLayer(0);
+    ASSERT_NE(layer, nullptr);
+    EXPECT_EQ(layer->GetFeatureCount(), 50);
+    for (auto& f : *layer) {
+        const auto i = static_cast<std::size_t>(f->GetFID() - 1);
+        ASSERT_LT(i, kept.size());
+        EXPECT_TRUE(f->GetGeometryRef() != nullptr && f->GetGeometryRef()->Equals(kept[i].get())) << "FID " << f->GetFID();
+    }
+    EXPECT_EQ(text(*ds, "SELECT rtreecheck('rtree_parcels_geom')"), "ok");
+    EXPECT_EQ(fids_in(*layer, 95, -1, 125, 5), (std::set<GIntBig>{11, 12, 13})); // i = 10, 11, 12
 }
 
 } // namespace

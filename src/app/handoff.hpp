@@ -22,6 +22,7 @@
 #include <deque>
 #include <exception>
 #include <mutex>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -129,7 +130,7 @@ private:
 template <class T, class Read, class Consume>
 void hand_off(bool two_threads, const HandoffShape& shape, Read&& read, Consume&& consume)
 {
-    if (!two_threads) {
+    const auto loop = [&] {
         for (;;) {
             T item{};
             if (!read(item)) {
@@ -137,9 +138,15 @@ void hand_off(bool two_threads, const HandoffShape& shape, Read&& read, Consume&
             }
             consume(item);
         }
+    };
+    if (!two_threads) {
+        loop();
+        return;
     }
     detail::Handoff<T> handoff(shape);
-    std::thread reader([&] {
+    // The reading stage, on its own thread: full batches to the consumer, the consumed ones
+    // freed here.
+    const auto reading = [&] {
         std::exception_ptr error;
         std::vector<T> batch;
         try {
@@ -169,7 +176,14 @@ void hand_off(bool two_threads, const HandoffShape& shape, Read&& read, Consume&
             }
         }
         handoff.end(error);
-    });
+    };
+    std::thread reader;
+    try {
+        reader = std::thread(reading);
+    } catch (const std::system_error&) { // no thread to be had (a process limit): one it is
+        loop();
+        return;
+    }
     try {
         std::vector<T> batch;
         while (handoff.take(batch)) {

@@ -8,6 +8,7 @@
 #    CGAL ISR and SR, GEOS, each judged by `trisnap assess`), writing
 #    bench/results/compare_smoke.json (< 60 s); fails when a tool fails or the table lacks a key;
 #  - bench_handoff once on the same sample (bench/results/handoff_smoke.json, < 1 s);
+#  - bench/threads --quick: one and two threads end to end on the same sample (< 2 s);
 # Fails when a binary is missing, when a run fails, or when a benchmark reports an error other
 # than an absent data set.
 #   BENCH_ENGINE=path BENCH_PIPELINE=path BENCH_COMPARE_TOOLS=path bench/run_smoke.sh   (default: newest of build/{bench,release,dev})
@@ -96,6 +97,10 @@ sys.exit(1 if bad else 0)
 PY
 echo "run_smoke: ok, bench/compare table in $out"
 rm -rf "$root/bench/results/compare_smoke"
+
+# One thread against two, end to end (issue 11), once each on the bundled sample.
+python3 "$root/bench/threads" --quick --json "$root/bench/results/threads_smoke.json" \
+  || { echo "run_smoke: bench/threads failed" >&2; exit 1; }
 
 # Tiling (issue 5): untiled vs tiles on 1 and 2 threads on Andorra, one repetition.
 python3 "$root/bench/tiling" --quick --out "$root/bench/results/tiling_smoke.json" \

@@ -223,6 +223,68 @@ TEST_F(CliSafety, OutCreatedByAnotherProcessDuringTheRunIsNotReplaced)
     expect_no_leftovers();
 }
 
+/// `n` separate squares (5 vertices each: features small enough for the writer thread).
+std::vector<FixtureFeature> many_squares(int n)
+{
+    std::vector<FixtureFeature> features;
+    for (int k = 0; k < n; ++k) {
+        const std::string x0 = std::to_string((k % 40) * 10), y0 = std::to_string((k / 40) * 10);
+        const std::string x1 = std::to_string((k % 40) * 10 + 6), y1 = std::to_string((k / 40) * 10 + 6);
+        features.push_back({"POLYGON ((" + x0 + " " + y0 + "," + x1 + " " + y0 + "," + x1 + " " + y1 + "," + x0 + " " + y1 +
+                                "," + x0 + " " + y0 + "))",
+                            {{"id", std::to_string(k)}, {"name", "square " + std::to_string(k)}}});
+    }
+    return features;
+}
+
+// The input changes between the read and the write (the run stops itself after the stitch and
+// "another process" edits the layer): the write phase reads the layer again for its attributes
+// and finds it different. On two threads, with features this small, that read runs beside OUT's
+// writer (app/handoff.hpp), so its error comes from the reading thread; on one from the loop.
+// Either way: one line naming the input, layer and change, exit 1, nothing at OUT.
+class CliInputChanged : public ::testing::TestWithParam<int> {
+protected:
+    TempDir dir;
+};
+
+TEST_P(CliInputChanged, DuringTheRunStopsTheWriteAndLeavesNothing)
+{
+    const std::string threads = std::to_string(GetParam());
+    for (const bool grow : {true, false}) {
+        SCOPED_TRACE(grow ? "a feature added" : "the last feature deleted");
+        const std::string in = dir.path(grow ? "grow.gpkg" : "shrink.gpkg");
+        write_fixture(in, "GPKG", "parcels", 3857, wkbPolygon, many_squares(1000));
+        const std::string out = dir.path("out.gpkg");
+        const ScopedEnv hook("TRISNAP_TEST_RAISE", "stitch:SIGSTOP");
+        const pid_t pid = spawn_trisnap(dir, {"snap", in, out, "--tolerance", "0.01", "--threads", threads, "-q"});
+        ASSERT_TRUE(wait_until_stopped(pid)) << "the run did not reach the end of its stitch";
+        {
+            GDALDatasetUniquePtr ds(GDALDataset::Open(in.c_str(), GDAL_OF_VECTOR | GDAL_OF_UPDATE));
+            ASSERT_TRUE(ds);
+            OGRLayer* layer = ds->GetLayer(0);
+            if (grow) {
+                OGRFeature f(layer->GetLayerDefn());
+                OGRGeometry* g = nullptr;
+                OGRGeometryFactory::createFromWkt("POLYGON ((5000 5000,5010 5000,5010 5010,5000 5000))", nullptr, &g);
+                f.SetGeometryDirectly(g);
+                ASSERT_EQ(layer->CreateFeature(&f), OGRERR_NONE);
+            } else {
+                ASSERT_EQ(layer->DeleteFeature(1000), OGRERR_NONE);
+            }
+        }
+        kill(pid, SIGCONT);
+        const RunOutput r = wait_trisnap(dir, pid);
+        expect_error(r, 1, grow ? "the input changed while trisnap ran (it now has more than 1000 features)"
+                                : "the input changed while trisnap ran (it now ends after 999 features)");
+        EXPECT_NE(r.err.find(in), std::string::npos) << "the line names the input: " << r.err;
+        EXPECT_NE(r.err.find("parcels"), std::string::npos) << "and its layer: " << r.err;
+        EXPECT_FALSE(fs::exists(out));
+        EXPECT_EQ(leftovers(dir.path("")), std::vector<std::string>{});
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Threads, CliInputChanged, ::testing::Values(1, 2));
+
 /// A full disk for every format: RLIMIT_FSIZE makes writes past 192 KiB fail like ENOSPC.
 class CliDiskFull : public ::testing::TestWithParam<std::string> {
 protected:

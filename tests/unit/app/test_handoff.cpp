@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstddef>
 #include <memory>
 #include <mutex>
@@ -68,30 +70,40 @@ TEST(Handoff, NothingToReadConsumesNothing)
     }
 }
 
-TEST(Handoff, ReaderRunsAheadByABoundedNumberOfItems)
+/// Hands `count` items of `vertices` each over on two threads, the consumer pausing 1 ms every
+/// `pause_every` items so that the reader can fill up; returns the most items read and not yet
+/// consumed that the consumer saw.
+std::size_t most_ahead(const HandoffShape& shape, std::size_t count, std::size_t vertices, std::size_t pause_every)
 {
-    const HandoffShape shape{5, 3};
     std::atomic<std::size_t> read{0};
-    std::size_t consumed = 0, most_ahead = 0;
+    std::size_t consumed = 0, ahead = 0;
     hand_off<Item>(true, shape,
                    [&](Item& item) {
-                       if (read == 2000) {
+                       if (read == count) {
                            return false;
                        }
                        item.n = read++;
+                       item.vertices = vertices;
                        return true;
                    },
                    [&](Item&) {
-                       most_ahead = std::max(most_ahead, read.load() - consumed);
+                       ahead = std::max(ahead, read.load() - consumed);
                        ++consumed;
-                       if (consumed % 100 == 0) {
-                           std::this_thread::sleep_for(std::chrono::milliseconds(1)); // let the reader fill up
+                       if (consumed % pause_every == 0) {
+                           std::this_thread::sleep_for(std::chrono::milliseconds(1));
                        }
                    });
-    EXPECT_EQ(consumed, 2000u);
+    EXPECT_EQ(consumed, count);
+    return ahead;
+}
+
+TEST(Handoff, ReaderRunsAheadByABoundedNumberOfItems)
+{
+    const HandoffShape shape{5, 3};
+    const std::size_t ahead = most_ahead(shape, 2000, 1, 100);
     // tokens full batches queued, the one being consumed, the one being filled.
-    EXPECT_LE(most_ahead, shape.batch * (shape.tokens + 2));
-    EXPECT_GE(most_ahead, shape.batch * shape.tokens) << "the reader never got ahead: not two threads?";
+    EXPECT_LE(ahead, shape.batch * (shape.tokens + 2));
+    EXPECT_GE(ahead, shape.batch * shape.tokens) << "the reader never got ahead: not two threads?";
 }
 
 TEST(Handoff, HeavyItemsMakeSmallBatches)
@@ -99,26 +111,7 @@ TEST(Handoff, HeavyItemsMakeSmallBatches)
     // Features of 300 vertices, batches closed at 1000 vertices: 4 features a batch, however
     // many the count allows, so the memory in flight follows the vertices.
     const HandoffShape shape{64, 2, 1000};
-    std::atomic<std::size_t> read{0};
-    std::size_t consumed = 0, most_ahead = 0;
-    hand_off<Item>(true, shape,
-                   [&](Item& item) {
-                       if (read == 500) {
-                           return false;
-                       }
-                       item.n = read++;
-                       item.vertices = 300;
-                       return true;
-                   },
-                   [&](Item&) {
-                       most_ahead = std::max(most_ahead, read.load() - consumed);
-                       ++consumed;
-                       if (consumed % 20 == 0) {
-                           std::this_thread::sleep_for(std::chrono::milliseconds(1));
-                       }
-                   });
-    EXPECT_EQ(consumed, 500u);
-    EXPECT_LE(most_ahead, 4 * (shape.tokens + 2)) << "batches were not closed by weight";
+    EXPECT_LE(most_ahead(shape, 500, 300, 20), 4 * (shape.tokens + 2)) << "batches were not closed by weight";
 }
 
 TEST(Handoff, WhatTheReaderMadeIsFreedOnItsThread)

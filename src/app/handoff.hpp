@@ -8,8 +8,8 @@
 // Not a tbb::parallel_pipeline (the house default), for the allocator: TBB runs a filter on
 // whichever thread takes the token, so what the reading stage allocated (GDAL's features, the
 // geometries) was freed on either thread, and glibc's arenas then locked and consolidated on
-// nearly every call. Measured on Andorra x43 with two threads: malloc and free took 20-35 % of
-// both threads in the write phase, which took 1.6-2.1 s instead of 1.4 s on one thread. Here
+// nearly every call. Measured on Andorra x43 with two threads: malloc and free took 15-30 % of
+// each thread in the write phase, which took 1.6-2.1 s instead of 1.4 s on one thread. Here
 // the reading stage has a thread of its own and the consumed batches go back to it to be freed,
 // so each thread frees what it allocated.
 //

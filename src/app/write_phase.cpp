@@ -314,7 +314,7 @@ void Writer::feature(Ready& r)
 /// a feature's fixed cost (its SQLite row, its attributes) outweighs its vertices, and loses
 /// where features are large: measured 2026-11-28 at 2 threads, medians of 3 (bench/results/
 /// REPORT.md, "A writer thread"): the write phase -10 % on Jakarta buildings (5 vertices a
-/// feature) and Andorra x43 (7.7), +30 % on Natural Earth land (39: each big geometry is made on
+/// feature), -7 % on Andorra x43 (7.7), +26 % on Natural Earth land (39: each big geometry is made on
 /// one core and encoded on the other). Reading beside the spool was tried too and gained nothing
 /// (the same section).
 bool writer_thread_pays(const Plan& plan, const RunResult& result)

@@ -49,6 +49,8 @@ inline constexpr int k_work_format = 6;
 namespace files {
 inline const std::string features = "features.bin";  ///< cleaned features, input order
 inline const std::string offsets = "features.idx";   ///< u64 offset of each, in order
+/// features.bin's outlines, in its stead once a plan of one leaf has its bucket (in memory only)
+inline const std::string outlines = "features.outline";
 inline const std::string spool_meta = "spool.meta";  ///< extent, sample, counts, FID check
 inline const std::string layout = "layout.bin";      ///< TileLayout
 inline const std::string groups = "groups.bin";      ///< Groups

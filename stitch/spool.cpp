@@ -238,8 +238,38 @@ SpoolMeta FeatureSpool::finish()
 }
 
 SpooledFeatures::SpooledFeatures(const tiling::WorkStore& store, bool outline)
-    : m_file(store.open(files::features)), m_reader(*m_file), m_outline(outline)
+    : m_file(store.open(outline && spool_cut_to_outlines(store) ? files::outlines : files::features)), m_reader(*m_file),
+      m_outline(outline)
 {
+}
+
+bool spool_cut_to_outlines(const tiling::WorkStore& store)
+{
+    return !store.exists(files::features) && store.exists(files::outlines);
+}
+
+void cut_spool_to_outlines(tiling::WorkStore& store)
+{
+    if (spool_cut_to_outlines(store)) {
+        return;
+    }
+    {
+        SpooledFeatures in(store, true);
+        const std::unique_ptr<tiling::OutFile> out = store.create(files::outlines);
+        tiling::RecordWriter writer(*out);
+        detail::CleanFeature cf;
+        bool has_z = false;
+        std::string record;
+        while (in.next(cf, has_z)) {
+            record.clear();
+            tiling::ByteWriter w(record);
+            tiling::put_clean_feature(w, cf, has_z);
+            writer.write(record);
+        }
+        out->commit();
+    }
+    store.remove(files::features);
+    store.remove(files::offsets);
 }
 
 bool SpooledFeatures::next(detail::CleanFeature& f, bool& has_z)

@@ -73,7 +73,8 @@ inline std::int64_t engine_id(const SpoolMeta& meta, const detail::CleanFeature&
 class SpooledFeatures {
 public:
     /// `outline`: features come as tiling::get_clean_feature's outlines (the stitch needs only
-    /// their counts, flags and first points).
+    /// their counts, flags and first points); they are read from features.outline when the spool
+    /// was cut to it (cut_spool_to_outlines()).
     explicit SpooledFeatures(const tiling::WorkStore& store, bool outline = false);
     /// The next feature in input order; false at the end.
     bool next(detail::CleanFeature& f, bool& has_z);
@@ -131,6 +132,15 @@ std::vector<tiling::TileFeature> read_bucket(const tiling::WorkStore& store, con
                                              std::size_t leaf);
 /// True when the layout's buckets are made from features.bin as they are read (a plan of one leaf).
 bool whole_spool_bucket(const TileLayout& layout);
+
+/// Replaces features.bin and features.idx by features.outline: each feature as an outline (what
+/// SpooledFeatures reads with `outline`). For a plan of one leaf in memory once its tile has its
+/// bucket, when nothing will read the features whole again (no retry, no halo growth): the
+/// engine holds them from there on, and the layer is not held twice (on Andorra x43 --no-tiles,
+/// features.bin is 40 MB of the run's peak). Does nothing when the spool was cut already.
+void cut_spool_to_outlines(tiling::WorkStore& store);
+/// Whether the spool was cut to outlines: full features can no longer be read.
+bool spool_cut_to_outlines(const tiling::WorkStore& store);
 
 /// Grows `reach` (starting as r0) by both ends of every edge of the feature that meets r0.
 void grow_reach(const detail::CleanFeature& cf, const tiling::Box& feature_box, const tiling::Box& r0, tiling::Box& reach);

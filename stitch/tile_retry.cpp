@@ -54,17 +54,40 @@ void TileRunner::fail(std::size_t group, const std::string& reason) const
 
 std::string TileRunner::describe_features(std::size_t group) const
 {
+    if (spool_cut_to_outlines(m_store)) {
+        // A plan of one leaf whose spool is cut: its bucket is every feature with a point that
+        // was not rejected (the leaf reaches round the whole layer). Only ids are needed here.
+        std::vector<tiling::TileFeature> features;
+        SpooledFeatures in(m_store, true);
+        detail::CleanFeature cf;
+        bool has_z = false;
+        for (std::uint64_t rank = 0; in.next(cf, has_z); ++rank) {
+            if (!cf.rejected && !box_of(cf).empty()) {
+                tiling::TileFeature& f = features.emplace_back();
+                f.rank = rank;
+                f.feature.id = cf.id;
+            }
+        }
+        return describe(features, true);
+    }
     return describe(gather(group, m_groups.halo[group]).features);
 }
 
-std::string TileRunner::describe(const std::vector<tiling::TileFeature>& features) const
+std::string TileRunner::describe(const std::vector<tiling::TileFeature>& features, bool ids_are_fids) const
 {
     constexpr std::size_t k_named = 8;
     std::vector<std::int64_t> fids;
-    FeatureLookup lookup(m_store);
+    std::unique_ptr<FeatureLookup> lookup;
     for (const tiling::TileFeature& f : features) {
+        if (m_meta.fids_unique || ids_are_fids) {
+            fids.push_back(f.feature.id);
+            continue;
+        }
+        if (!lookup) {
+            lookup = std::make_unique<FeatureLookup>(m_store);
+        }
         bool has_z = false;
-        fids.push_back(m_meta.fids_unique ? f.feature.id : lookup.at(f.rank, has_z).id);
+        fids.push_back(lookup->at(f.rank, has_z).id);
     }
     std::sort(fids.begin(), fids.end());
     std::string text = std::to_string(fids.size()) + (fids.size() == 1 ? " feature: FID " : " features: FIDs ");

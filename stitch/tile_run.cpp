@@ -198,8 +198,9 @@ bool worth_keeping(const Piece& p)
 } // namespace
 
 TileRunner::TileRunner(tiling::WorkStore& store, const TileLayout& layout, const Groups& groups, const SpoolMeta& meta,
-                       const SnapOptions& options, int max_growth)
-    : m_store(store), m_layout(layout), m_groups(groups), m_meta(meta), m_options(options), m_max_growth(max_growth)
+                       const SnapOptions& options, int max_growth, bool cut_spool)
+    : m_store(store), m_layout(layout), m_groups(groups), m_meta(meta), m_options(options), m_max_growth(max_growth),
+      m_cut_spool(cut_spool)
 {
 }
 
@@ -368,9 +369,13 @@ void injected_failure(const std::vector<std::size_t>& leaves, TileInputMode mode
 TileReport TileRunner::run(std::size_t group, const SnapProgress& progress, TileInputMode mode,
                            std::uint64_t max_vertices) const
 {
-    injected_failure(m_groups.leaves[group], mode);
     const tiling::Gather gather_input = [&](double h) {
         tiling::TileJobInput in = gather(group, h, mode);
+        if (m_cut_spool) {
+            cut_spool_to_outlines(m_store);
+        }
+        // As the engine would fail: after its input was gathered (and the spool cut).
+        injected_failure(m_groups.leaves[group], mode);
         if (mode == TileInputMode::whole && max_vertices > 0 && in.vertices > max_vertices) {
             throw std::length_error("its features whole hold " + std::to_string(in.vertices) +
                                     " vertices, more than the memory limit holds in one triangulation");

@@ -20,8 +20,10 @@ enum class TileInputMode { cut, whole };
 
 class TileRunner {
 public:
+    /// `cut_spool`: once the group's input is gathered, the spool is cut to its outlines
+    /// (cut_spool_to_outlines(): for a plan of one leaf in memory that nothing reads whole again).
     TileRunner(tiling::WorkStore& store, const TileLayout& layout, const Groups& groups, const SpoolMeta& meta,
-               const SnapOptions& options, int max_growth);
+               const SnapOptions& options, int max_growth, bool cut_spool = false);
     /// Snaps the group and commits its files; returns its report. `progress` (optional) is the
     /// engine's callback for this run (SnapProgress: throw from it to stop the tile). `whole`
     /// input with `max_vertices` > 0: throws std::length_error, snapping nothing, when the
@@ -40,7 +42,8 @@ public:
 private:
     tiling::TileJobInput gather(std::size_t group, double halo, TileInputMode mode = TileInputMode::cut) const;
     tiling::TileJobInput gather_wide(std::size_t group, double halo, TileInputMode mode) const;
-    std::string describe(const std::vector<tiling::TileFeature>& features) const;
+    /// `ids_are_fids`: the features' ids are their FIDs (else the engine's ids, looked up).
+    std::string describe(const std::vector<tiling::TileFeature>& features, bool ids_are_fids = false) const;
     void commit(std::size_t group, const tiling::TileOutcome& oc, TileReport& report) const;
     void write_files(std::size_t group, const TileReport& report, const std::vector<Piece>& pieces,
                      const std::vector<SeamEdge>& seams) const;
@@ -51,6 +54,7 @@ private:
     const SpoolMeta& m_meta;
     const SnapOptions& m_options;
     int m_max_growth;
+    bool m_cut_spool;
 };
 
 } // namespace trisnap::stitch

@@ -68,7 +68,11 @@ void TiledRun::Impl::run_groups(std::vector<std::size_t> pending, const TileProg
 std::vector<std::pair<std::size_t, std::string>> TiledRun::Impl::run_once(std::vector<std::size_t> pending,
                                                                          const TileProgress& progress)
 {
-    const TileRunner runner(store, layout, groups, meta, options, tiling.max_growth);
+    // A plan of one leaf in memory that stops on a failure and never grows its halo reads its
+    // features whole once: the spool keeps only their outlines after that (the stitch's need).
+    const bool cut_spool = !store.on_disk() && whole_spool_bucket(layout) && tiling.on_error == OnError::stop &&
+                           tiling.max_growth == 0;
+    const TileRunner runner(store, layout, groups, meta, options, tiling.max_growth, cut_spool);
     std::vector<std::pair<std::uint64_t, std::size_t>> order;
     std::uint64_t total = 0;
     for (std::size_t g : pending) {

@@ -122,13 +122,23 @@ private:
 
 } // namespace detail
 
+/// Starts the reading stage's thread (std::thread; a test gives one that fails as a process
+/// limit would).
+struct StartThread {
+    template <class F>
+    std::thread operator()(F&& f) const
+    {
+        return std::thread(std::forward<F>(f));
+    }
+};
+
 /// Calls `read(item)` until it returns false, and `consume(item)` on every item it filled, in
 /// that order. With `two_threads`, reading runs on a thread of its own, ahead of consuming by
 /// at most tokens + 2 batches (those waiting, the one consumed, the one filled), each of at
-/// most `batch` items and `batch_weight` plus one item's weight; without, it is a plain loop
-/// on this thread.
-template <class T, class Read, class Consume>
-void hand_off(bool two_threads, const HandoffShape& shape, Read&& read, Consume&& consume)
+/// most `batch` items and `batch_weight` plus one item's weight; without, or when `start`
+/// cannot make the thread (std::system_error), it is a plain loop on this thread.
+template <class T, class Read, class Consume, class Start = StartThread>
+void hand_off(bool two_threads, const HandoffShape& shape, Read&& read, Consume&& consume, Start&& start = {})
 {
     const auto loop = [&] {
         for (;;) {
@@ -179,7 +189,7 @@ void hand_off(bool two_threads, const HandoffShape& shape, Read&& read, Consume&
     };
     std::thread reader;
     try {
-        reader = std::thread(reading);
+        reader = start(reading);
     } catch (const std::system_error&) { // no thread to be had (a process limit): one it is
         loop();
         return;

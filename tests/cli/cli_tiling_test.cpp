@@ -165,6 +165,40 @@ TEST(CliTiling, TilingConfigKeysAreReadAndChecked)
     EXPECT_NE(r.err.find("tiling.sise"), std::string::npos) << r.err;
 }
 
+// --no-tiles in memory keeps only outlines of its spool while the engine runs (stitch/spool.hpp,
+// cut_spool_to_outlines): a failure of its one tile still names the same features, in the same
+// words, as the same run out of core (which keeps the spool whole).
+TEST(CliNoTilesFailure, TheStopLineNamesTheSameFeaturesInMemoryAndOutOfCore)
+{
+    if (!exists(andorra())) GTEST_SKIP() << "data set absent: " << andorra();
+    TempDir dir;
+    ::setenv("TRISNAP_FAIL_TILES", "0", 1);
+    auto tile_part = [](const std::string& line) {
+        const std::size_t from = line.find("tile 0 (core ");
+        const std::size_t to = line.find(") failed: ");
+        return from == std::string::npos || to == std::string::npos ? std::string() : line.substr(from, to - from);
+    };
+    std::vector<std::string> parts;
+    for (const bool out_of_core : {false, true}) {
+        SCOPED_TRACE(out_of_core ? "out of core" : "in memory");
+        const std::string out = dir.path(out_of_core ? "disk.gpkg" : "memory.gpkg");
+        std::vector<std::string> args{"snap", andorra(), out, "--no-tiles", "--tolerance", "1e-6", "--threads", "1"};
+        if (out_of_core) {
+            args.insert(args.end(), {"--memory-limit", "4GiB", "--work-dir", dir.path("work")});
+        }
+        const RunOutput r = run_trisnap(dir, args);
+        EXPECT_EQ(r.code, 1) << r.err;
+        ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
+        EXPECT_NE(r.err.find("injected failure"), std::string::npos) << r.err;
+        EXPECT_FALSE(exists(out));
+        parts.push_back(tile_part(r.err));
+        EXPECT_NE(parts.back().find(" features: FIDs "), std::string::npos) << r.err;
+        EXPECT_NE(parts.back().find(" more"), std::string::npos) << r.err;
+    }
+    ::unsetenv("TRISNAP_FAIL_TILES");
+    EXPECT_EQ(parts[0], parts[1]);
+}
+
 // A tile whose engine fails (injected with TRISNAP_FAIL_TILES, stitch/tile_run.cpp): by default
 // the run stops with one line naming the tile and leaves nothing; with --on-error skip the tile
 // is retried merged with its neighbours, and what fails again is reported feature by feature

@@ -13,6 +13,7 @@
 #include <memory>
 #include <mutex>
 #include <stdexcept>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -58,6 +59,41 @@ TEST(Handoff, ConsumerSeesTheReadersSequenceOnOneOrTwoThreads)
                 ASSERT_EQ(seen[i], i) << "out of order at " << i << ", two threads " << two;
             }
         }
+    }
+}
+
+// No thread to be had (RLIMIT_NPROC, which does not bind root, so simulated): the loop, on the
+// calling thread, with the same sequence.
+TEST(Handoff, NoThreadToBeHadIsThePlainLoop)
+{
+    const std::size_t count = 300;
+    std::size_t next = 0;
+    std::vector<std::size_t> seen;
+    std::size_t starts = 0;
+    std::size_t elsewhere = 0;
+    const std::thread::id caller = std::this_thread::get_id();
+    hand_off<Item>(true, HandoffShape{7, 2},
+                   [&](Item& item) {
+                       elsewhere += std::this_thread::get_id() != caller ? 1 : 0;
+                       if (next == count) {
+                           return false;
+                       }
+                       item.n = next++;
+                       return true;
+                   },
+                   [&](Item& item) {
+                       elsewhere += std::this_thread::get_id() != caller ? 1 : 0;
+                       seen.push_back(item.n);
+                   },
+                   [&](auto&&) -> std::thread {
+                       ++starts;
+                       throw std::system_error(std::make_error_code(std::errc::resource_unavailable_try_again));
+                   });
+    EXPECT_EQ(starts, 1u);
+    EXPECT_EQ(elsewhere, 0u) << "read or consumed on another thread";
+    ASSERT_EQ(seen.size(), count);
+    for (std::size_t i = 0; i < count; ++i) {
+        ASSERT_EQ(seen[i], i) << "out of order at " << i;
     }
 }
 

@@ -235,6 +235,65 @@ TEST_P(StoreTest, APlanOfOneLeafTakesItsBucketFromTheSpool)
     EXPECT_EQ(layout.bucket_vertices[0], vertices);
 }
 
+// A spool cut to outlines reads back exactly the outlines it held, and nothing whole any more.
+TEST_P(StoreTest, ASpoolCutToOutlinesKeepsItsOutlinesAndNothingElse)
+{
+    auto store = make();
+    std::vector<Feature> input = perturbed_grid_coverage(6, 6, 1.0, 0.2, 5, 1, 0.004);
+    Feature line;
+    line.id = 1000;
+    line.geometry.type = Geometry::Type::MultiLineString;
+    line.geometry.lines = {{{0.5, -1}, {3.5, 2.25}, {6.5, 9.5}}, {{1, 1}, {2, 1.5}}};
+    input.push_back(line);
+    Feature rejected = input.front();
+    rejected.id = 1001;
+    rejected.geometry.polygons[0].rings[0][1].x = std::nan("");
+    input.insert(input.begin() + 3, rejected);
+    spool_features(*store, input, 0.01);
+    auto outlines = [&] {
+        std::vector<std::pair<detail::CleanFeature, bool>> out;
+        stitch::SpooledFeatures in(*store, true);
+        detail::CleanFeature cf;
+        bool has_z = false;
+        while (in.next(cf, has_z)) {
+            out.emplace_back(cf, has_z);
+        }
+        return out;
+    };
+    const auto before = outlines();
+    ASSERT_EQ(before.size(), input.size());
+    const std::uint64_t bytes = store->total_bytes();
+    EXPECT_FALSE(stitch::spool_cut_to_outlines(*store));
+    stitch::cut_spool_to_outlines(*store);
+    EXPECT_TRUE(stitch::spool_cut_to_outlines(*store));
+    EXPECT_FALSE(store->exists(stitch::files::features));
+    EXPECT_FALSE(store->exists(stitch::files::offsets));
+    EXPECT_LT(store->total_bytes(), bytes) << "the cut spool holds as much as before";
+    stitch::cut_spool_to_outlines(*store); // again: nothing to do
+    const auto after = outlines();
+    ASSERT_EQ(after.size(), before.size());
+    for (std::size_t k = 0; k < before.size(); ++k) {
+        const detail::CleanFeature& a = before[k].first;
+        const detail::CleanFeature& b = after[k].first;
+        EXPECT_EQ(a.index, b.index);
+        EXPECT_EQ(a.id, b.id);
+        EXPECT_EQ(a.polygonal, b.polygonal);
+        EXPECT_EQ(a.rejected, b.rejected);
+        EXPECT_EQ(a.shells, b.shells);
+        EXPECT_EQ(a.holes, b.holes);
+        EXPECT_EQ(before[k].second, after[k].second);
+        ASSERT_EQ(a.rings.size(), b.rings.size()) << "feature " << a.id;
+        for (std::size_t r = 0; r < a.rings.size(); ++r) {
+            EXPECT_EQ(a.rings[r].polygon, b.rings[r].polygon);
+            EXPECT_EQ(a.rings[r].hole, b.rings[r].hole);
+            EXPECT_EQ(a.rings[r].points, b.rings[r].points) << "feature " << a.id << " ring " << r;
+        }
+        EXPECT_EQ(a.lines, b.lines) << "feature " << a.id;
+    }
+    EXPECT_THROW(stitch::SpooledFeatures(*store, false), tiling::work_error) << "whole features read from outlines";
+    EXPECT_THROW(stitch::FeatureLookup{*store}, tiling::work_error);
+}
+
 INSTANTIATE_TEST_SUITE_P(Stores, StoreTest, ::testing::Values(false, true),
                          [](const auto& info) { return info.param ? std::string("Directory") : std::string("Memory"); });
 
@@ -410,6 +469,62 @@ TEST(TiledRun, SmallPoolSplitsTilesAndAResumedRunEqualsUntiled)
         ++n;
     }
     EXPECT_EQ(n, input.size());
+    fs::remove_all(dir);
+}
+
+// A plan of one leaf in memory (--no-tiles) cuts its spool to outlines once its tile has its
+// features, and the output is still the untiled one; where a later step may read the features
+// whole (a directory store: --resume; --on-error skip: the retries; a halo that may grow) the
+// spool stays whole.
+TEST(TiledRun, APlanOfOneLeafInMemoryKeepsOnlyOutlinesOfItsSpool)
+{
+    const double t = 0.01;
+    std::vector<Feature> input = perturbed_grid_coverage(12, 12, 1.0, 0.2, 9, 1, 0.004);
+    Feature line;
+    line.id = 5000;
+    line.geometry.type = Geometry::Type::MultiLineString;
+    line.geometry.lines = {{{0.5, -1}, {3.5, 2.25}, {6.5, 9.5}}, {{1, 1}, {2, 1.5}}};
+    input.push_back(line);
+    const SnapOptions options = options_at(t);
+    const SnapResult untiled = snap(input, options);
+    const fs::path dir = fs::temp_directory_path() / ("trisnap-outline-" + std::to_string(::getpid()));
+    struct Case {
+        const char* what;
+        bool on_disk;
+        stitch::OnError on_error;
+        int max_growth;
+        bool cut;
+    };
+    for (const Case& c : {Case{"memory", false, stitch::OnError::stop, 0, true},
+                          Case{"directory", true, stitch::OnError::stop, 0, false},
+                          Case{"--on-error skip", false, stitch::OnError::skip, 0, false},
+                          Case{"--halo-max-growth 2", false, stitch::OnError::stop, 2, false}}) {
+        SCOPED_TRACE(c.what);
+        fs::remove_all(dir);
+        auto store = c.on_disk ? tiling::make_directory_store(dir.string()) : tiling::make_memory_store();
+        const stitch::SpoolMeta meta = spool_features(*store, input, t);
+        stitch::TilingOptions tiling;
+        tiling.plan.single = true;
+        tiling.on_error = c.on_error;
+        tiling.max_growth = c.max_growth;
+        stitch::TiledRun run(*store, options, tiling, stitch::ScheduleOptions{});
+        run.plan(meta);
+        ASSERT_EQ(run.layout().plan.size(), 1u);
+        run.snap();
+        EXPECT_EQ(stitch::spool_cut_to_outlines(*store), c.cut);
+        EXPECT_EQ(store->exists(stitch::files::features), !c.cut);
+        run.stitch();
+        const auto merger = run.output();
+        stitch::OutputItem item;
+        std::size_t n = 0;
+        while (merger->next(item)) {
+            const FeatureOutput& expected = untiled.features[item.seq];
+            ASSERT_EQ(expected.id, item.output.id);
+            EXPECT_EQ(to_wkt(expected.geometry), to_wkt(item.output.geometry)) << "feature " << expected.id;
+            ++n;
+        }
+        EXPECT_EQ(n, input.size());
+    }
     fs::remove_all(dir);
 }
 

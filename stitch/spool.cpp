@@ -254,17 +254,18 @@ void cut_spool_to_outlines(tiling::WorkStore& store)
         return;
     }
     {
-        SpooledFeatures in(store, true);
+        const std::unique_ptr<tiling::InFile> in = store.open(files::features);
+        tiling::RecordReader reader(*in);
         const std::unique_ptr<tiling::OutFile> out = store.create(files::outlines);
         tiling::RecordWriter writer(*out);
-        detail::CleanFeature cf;
-        bool has_z = false;
-        std::string record;
-        while (in.next(cf, has_z)) {
-            record.clear();
-            tiling::ByteWriter w(record);
-            tiling::put_clean_feature(w, cf, has_z);
-            writer.write(record);
+        std::string whole;
+        std::string outline;
+        while (reader.next(whole)) {
+            tiling::ByteReader r(whole, "feature");
+            outline.clear();
+            tiling::ByteWriter w(outline);
+            tiling::put_clean_outline(w, r);
+            writer.write(outline);
         }
         out->commit();
     }

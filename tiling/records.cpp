@@ -136,6 +136,47 @@ detail::CleanFeature get_clean_feature(ByteReader& r, bool& has_z, bool outline)
     return f;
 }
 
+namespace {
+
+// A path's count and first point copied, the rest skipped; the count written is 1 (or 0).
+void put_path_head(ByteWriter& w, ByteReader& r, bool has_z)
+{
+    const std::size_t bytes = has_z ? k_xy + sizeof(double) : k_xy;
+    const std::uint32_t n = r.get_count(bytes);
+    w.put<std::uint32_t>(n > 0 ? 1 : 0);
+    if (n > 0) {
+        for (std::size_t k = 0; k < bytes / sizeof(double); ++k) {
+            w.put(r.get<double>());
+        }
+        r.skip((n - 1) * bytes);
+    }
+}
+
+} // namespace
+
+void put_clean_outline(ByteWriter& w, ByteReader& r)
+{
+    w.put(r.get<std::uint64_t>()); // index
+    w.put(r.get<std::int64_t>());  // id
+    const auto flags = r.get<std::uint8_t>();
+    const bool has_z = (flags & 4) != 0;
+    w.put(flags);
+    w.put(r.get<std::uint64_t>()); // shells
+    w.put(r.get<std::uint64_t>()); // holes
+    const std::uint32_t rings = r.get_count(sizeof(std::uint32_t) + 1);
+    w.put(rings);
+    for (std::uint32_t k = 0; k < rings; ++k) {
+        w.put(r.get<std::uint32_t>()); // polygon
+        w.put(r.get<std::uint8_t>());  // hole
+        put_path_head(w, r, has_z);
+    }
+    const std::uint32_t lines = r.get_count(sizeof(std::uint32_t));
+    w.put(lines);
+    for (std::uint32_t k = 0; k < lines; ++k) {
+        put_path_head(w, r, has_z);
+    }
+}
+
 void put_tile_feature(ByteWriter& w, const TileFeature& f)
 {
     w.put<std::uint64_t>(f.rank);

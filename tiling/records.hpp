@@ -21,6 +21,9 @@ Geometry get_geometry(ByteReader& r);
 /// every ring and line read back as its first point only (counts and flags complete).
 void put_clean_feature(ByteWriter& w, const detail::CleanFeature& f, bool has_z);
 detail::CleanFeature get_clean_feature(ByteReader& r, bool& has_z, bool outline = false);
+/// The record put_clean_feature() makes of a cleaned feature's outline (each ring and line cut
+/// to its first point), made from the whole feature's record without decoding it.
+void put_clean_outline(ByteWriter& w, ByteReader& whole);
 
 /// One feature given to a tile: its rank in features.bin (input order), engine id and whether
 /// it came whole.

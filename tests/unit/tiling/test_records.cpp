@@ -99,6 +99,17 @@ TEST(Records, CleanFeaturesRoundTripWithAndWithoutZ)
                 line.resize(1);
             }
             EXPECT_EQ(same_clean_feature(heads, outline, has_z), cf.rings.size() + cf.lines.size()) << "polygonal " << polygonal;
+            // The outline's record made from the whole record's bytes (a spool cut to outlines)
+            // is the record of the outline, byte for byte.
+            std::string cut;
+            tiling::ByteWriter cw(cut);
+            tiling::ByteReader whole(bytes, "test");
+            tiling::put_clean_outline(cw, whole);
+            EXPECT_TRUE(whole.done());
+            std::string expected;
+            tiling::ByteWriter ew(expected);
+            tiling::put_clean_feature(ew, heads, has_z);
+            EXPECT_EQ(cut, expected) << "polygonal " << polygonal << ", z " << has_z;
         }
     }
 }

@@ -53,7 +53,7 @@ struct PlanInput {
 
 struct PlanOptions {
     /// Balanced plan: a tile is split while it holds more than this many input vertices.
-    std::size_t vertex_budget = 100000;
+    std::size_t vertex_budget = 50000;
     /// > 0: a regular grid of this side (layer units) instead of the balanced plan.
     double tile_size = 0.0;
     /// One tile (`--no-tiles`).

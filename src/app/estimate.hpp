@@ -23,7 +23,7 @@ struct EstimateSettings {
     bool tiled = true;
     unsigned threads = 1;
     std::uint64_t memory_limit = 0; ///< out of core under this many bytes; 0: in memory
-    std::int64_t vertex_budget = 100000;
+    std::int64_t vertex_budget = 50000;
 };
 
 struct RunEstimate {

@@ -38,7 +38,7 @@ struct RunConfig {
 /// [tiling]: how a layer is cut into tiles (see stitch/tiled_snap.hpp TilingOptions).
 struct TilingConfig {
     double size = 0.0;                  ///< > 0: regular tiles of this side (layer units); 0: balanced
-    std::int64_t vertex_budget = 100000; ///< balanced tiles hold at most this many input vertices
+    std::int64_t vertex_budget = 50000; ///< balanced tiles hold at most this many input vertices
     double halo = 32.0;                 ///< halo width as a factor of the tolerance (>= 2)
     int max_growth = 0;                 ///< times a tile's halo may double when a cascade reaches its core (0: no test)
     bool no_tiles = false;              ///< one tile: the whole layer in one triangulation

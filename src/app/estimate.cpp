@@ -14,14 +14,17 @@ namespace fs = std::filesystem;
 namespace {
 
 // Calibration (bench/README.md "Estimates": `trisnap snap` on every shared data set, 2 threads,
-// tiled and --no-tiles, peak RSS and user+sys from /usr/bin/time -v).
+// tiled and --no-tiles, peak RSS and user+sys from /usr/bin/time -v). The memory constants are
+// 2026-11-23's (conservative: since the lean engine they overestimate large layers up to 3.5x,
+// and a linear model that stays above the hard polygons' tiled peaks cannot do better); the time
+// constants 2026-11-28's, refitted after the lean engine made runs 3-5x faster than they said.
 constexpr double k_base_bytes = 58.0 * 1024 * 1024; // the process with GDAL, PROJ and an empty layer
 constexpr double k_held_per_vertex = 440.0;         // features, buckets and results kept for the write
 constexpr double k_triangulation_per_vertex = 600.0; // a tile's triangulation and snap state
 constexpr double k_osm_bytes_factor = 40.0;         // the OSM driver's node index and relation buffers
-constexpr double k_base_seconds = 0.08;             // start, open, write an empty layer
-constexpr double k_seconds_per_vertex = 12e-6;      // read, triangulate, snap, write
-constexpr double k_seconds_per_feature = 45e-6;     // read, attribute copy, write, R-tree entry
+constexpr double k_base_seconds = 0.2;              // start (GDAL, PROJ, oneTBB), open, write an empty layer
+constexpr double k_seconds_per_vertex = 4.5e-6;     // read, triangulate, snap, write
+constexpr double k_seconds_per_feature = 10e-6;     // read, attribute copy, write, R-tree entry
 constexpr double k_osm_seconds_per_byte = 0.3e-6;   // decode the whole .pbf (every layer's nodes)
 constexpr double k_out_of_core_slowdown = 1.15;     // spool and merge through files
 constexpr double k_uncompressed_bytes_per_vertex = 16.0; // one 2D vertex in WKB, Shapefile, FlatGeobuf

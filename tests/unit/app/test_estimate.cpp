@@ -90,20 +90,22 @@ struct Measured {
 
 TEST(Estimate, WithinTwiceTheMeasuredRuns)
 {
-    // bench/README.md "Estimates" (2 threads, 1 cm, load 5-8 on 2 cores): peak RSS, CPU time.
+    // bench/README.md "Estimates" (2 threads, 1 cm): peak RSS measured 2026-11-23 (load 5-8 on 2
+    // cores; what the memory constants are calibrated on), CPU time 2026-11-28 (load ~1; the
+    // time constants' calibration, after the lean engine).
     const std::vector<Measured> runs = {
-        {"natural_earth ne_10m_land", layer(411137, 10, 19431424), true, 291, 4.19},
-        {"natural_earth ne_10m_land", layer(411137, 10, 19431424), false, 467, 4.60},
-        {"natural_earth ne_50m_admin_0_countries", layer(99593, 241, 19431424), true, 147, 1.17},
-        {"boston buildings", layer(273340, 48124, 10874880), true, 212, 4.51},
-        {"boston buildings", layer(273340, 48124, 10874880), false, 310, 4.81},
-        {"snapoly andorra", layer(44661, 5757, 1642496), true, 103, 0.82},
-        {"bgt_delft bgt_kunstwerkdeel (5 vertices)", layer(5, 1, 1720320), true, 57, 0.12},
-        {"monaco 2020 .osm.pbf multipolygons", layer(208489, 24084, 1759101, true), true, 309, 4.16},
-        {"andorra 2013 .osm.pbf multipolygons", layer(17138, 624, 565390, true), true, 102, 0.47},
+        {"natural_earth ne_10m_land", layer(411137, 10, 19431424), true, 291, 1.46},
+        {"natural_earth ne_10m_land", layer(411137, 10, 19431424), false, 467, 1.76},
+        {"natural_earth ne_50m_admin_0_countries", layer(99593, 241, 19431424), true, 147, 0.48},
+        {"boston buildings", layer(273340, 48124, 10874880), true, 212, 1.52},
+        {"boston buildings", layer(273340, 48124, 10874880), false, 310, 1.93},
+        {"snapoly andorra", layer(44661, 5757, 1642496), true, 103, 0.36},
+        {"bgt_delft bgt_kunstwerkdeel (5 vertices)", layer(5, 1, 1720320), true, 57, 0.15},
+        {"monaco 2020 .osm.pbf multipolygons", layer(208489, 24084, 1759101, true), true, 309, 1.73},
+        {"andorra 2013 .osm.pbf multipolygons", layer(17138, 624, 565390, true), true, 102, 0.43},
         // validate does not read an .osm.pbf: the vertices from the file's size.
-        {"monaco 2020 .osm.pbf, not counted", layer(-1, -1, 1759101, true), true, 309, 4.16},
-        {"helsinki 2020 .osm.pbf, not counted", layer(-1, -1, 685110, true), true, 106, 0.49},
+        {"monaco 2020 .osm.pbf, not counted", layer(-1, -1, 1759101, true), true, 309, 1.73},
+        {"helsinki 2020 .osm.pbf, not counted", layer(-1, -1, 685110, true), true, 106, 0.44},
     };
     for (const Measured& m : runs) {
         const RunEstimate e = estimate_run(m.in, settings(m.tiled, 2));

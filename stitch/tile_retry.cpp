@@ -56,30 +56,27 @@ std::string TileRunner::describe_features(std::size_t group) const
 {
     if (spool_cut_to_outlines(m_store)) {
         // A plan of one leaf whose spool is cut: its bucket is every feature with a point that
-        // was not rejected (the leaf reaches round the whole layer). Only ids are needed here.
-        std::vector<tiling::TileFeature> features;
+        // was not rejected (the leaf reaches round the whole layer); an outline has the FID.
+        std::vector<std::int64_t> fids;
         SpooledFeatures in(m_store, true);
         detail::CleanFeature cf;
         bool has_z = false;
-        for (std::uint64_t rank = 0; in.next(cf, has_z); ++rank) {
+        while (in.next(cf, has_z)) {
             if (!cf.rejected && !box_of(cf).empty()) {
-                tiling::TileFeature& f = features.emplace_back();
-                f.rank = rank;
-                f.feature.id = cf.id;
+                fids.push_back(cf.id);
             }
         }
-        return describe(features, true);
+        return describe_fids(std::move(fids));
     }
     return describe(gather(group, m_groups.halo[group]).features);
 }
 
-std::string TileRunner::describe(const std::vector<tiling::TileFeature>& features, bool ids_are_fids) const
+std::string TileRunner::describe(const std::vector<tiling::TileFeature>& features) const
 {
-    constexpr std::size_t k_named = 8;
     std::vector<std::int64_t> fids;
-    std::unique_ptr<FeatureLookup> lookup;
+    std::unique_ptr<FeatureLookup> lookup; // only when the engine's ids are not the FIDs
     for (const tiling::TileFeature& f : features) {
-        if (m_meta.fids_unique || ids_are_fids) {
+        if (m_meta.fids_unique) {
             fids.push_back(f.feature.id);
             continue;
         }
@@ -89,6 +86,12 @@ std::string TileRunner::describe(const std::vector<tiling::TileFeature>& feature
         bool has_z = false;
         fids.push_back(lookup->at(f.rank, has_z).id);
     }
+    return describe_fids(std::move(fids));
+}
+
+std::string TileRunner::describe_fids(std::vector<std::int64_t> fids)
+{
+    constexpr std::size_t k_named = 8;
     std::sort(fids.begin(), fids.end());
     std::string text = std::to_string(fids.size()) + (fids.size() == 1 ? " feature: FID " : " features: FIDs ");
     for (std::size_t k = 0; k < fids.size() && k < k_named; ++k) {

@@ -42,8 +42,9 @@ public:
 private:
     tiling::TileJobInput gather(std::size_t group, double halo, TileInputMode mode = TileInputMode::cut) const;
     tiling::TileJobInput gather_wide(std::size_t group, double halo, TileInputMode mode) const;
-    /// `ids_are_fids`: the features' ids are their FIDs (else the engine's ids, looked up).
-    std::string describe(const std::vector<tiling::TileFeature>& features, bool ids_are_fids = false) const;
+    std::string describe(const std::vector<tiling::TileFeature>& features) const;
+    /// "N features: FIDs a, b, ... and M more", the FIDs ascending.
+    static std::string describe_fids(std::vector<std::int64_t> fids);
     void commit(std::size_t group, const tiling::TileOutcome& oc, TileReport& report) const;
     void write_files(std::size_t group, const TileReport& report, const std::vector<Piece>& pieces,
                      const std::vector<SeamEdge>& seams) const;

@@ -332,6 +332,9 @@ void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerge
     result.problems.begin_phase("problems-write-"); // runs of a write that stopped go
     Preparer input(plan, store, merger, result, interrupt);
     Writer w(writer, result);
+    for (std::size_t k = 0; k < result.layers.size(); ++k) {
+        writer.expect(k, result.layers[k].input);
+    }
     // The count is what went into OUT, of the features read: a bar at 292/292 for a layer that
     // collapsed entirely (--force) said "written" of features that were not.
     progress.start("write", static_cast<std::int64_t>(result.input), "features written");

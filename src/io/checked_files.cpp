@@ -180,9 +180,11 @@ std::string checked_path(const std::filesystem::path& path)
     return k_prefix + std::filesystem::absolute(path).lexically_normal().string();
 }
 
+bool write_failure_recorded() { return g_failure_count.load() != 0; }
+
 std::string take_write_failure(const std::filesystem::path& directory)
 {
-    if (g_failure_count.load() == 0) {
+    if (!write_failure_recorded()) {
         return "";
     }
     const std::string dir = std::filesystem::absolute(directory).lexically_normal().string();

@@ -59,7 +59,6 @@ Change conversion_change(const OGRFeature& source, int i, const OGRFeature& writ
 {
     const OGRFieldType from = source.GetFieldDefnRef(i)->GetType();
     const OGRFieldType to = written.GetFieldDefnRef(o)->GetType();
-    const std::string kind = "changed by the conversion from " + type_name(from) + " to " + type_name(to);
     if (to == OFTString) {
         return {}; // the text form keeps the value
     }
@@ -79,7 +78,10 @@ Change conversion_change(const OGRFeature& source, int i, const OGRFeature& writ
     } else if (std::string(source.GetFieldAsString(i)) == written.GetFieldAsString(o)) {
         return {};
     }
-    return {kind, fmt::format("{} -> {}", source.GetFieldAsString(i), written.GetFieldAsString(o))};
+    // Named only here: every written value passes through this function (a feature's fields,
+    // on the writer's thread), and nearly all read back the same.
+    return {"changed by the conversion from " + type_name(from) + " to " + type_name(to),
+            fmt::format("{} -> {}", source.GetFieldAsString(i), written.GetFieldAsString(o))};
 }
 
 /// What a .dbf stores for a Real: printed with the field's width and decimals, cut to the width.

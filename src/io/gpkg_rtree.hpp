@@ -17,6 +17,7 @@
 // <rtree>_parent each node but the root to its parent.
 #include <ogrsf_frmts.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -56,7 +57,13 @@ std::string rtree_node_blob(const std::vector<RtreeEntry>& cells, int depth, boo
 /// (its CreateSpatialIndex(), the slower insertion path): memory stays bounded.
 class GpkgIndexBuilder {
 public:
-    explicit GpkgIndexBuilder(std::size_t max_entries) : m_max_entries(max_entries) {}
+    /// `json`: the integer tables (_rowid, _parent) go in as JSON objects read by SQLite's
+    /// json_each (where SQLite has it); false: as VALUES lists, the path of an SQLite without
+    /// JSON functions (the tests compare the two).
+    explicit GpkgIndexBuilder(std::size_t max_entries, bool json = true) : m_max_entries(max_entries), m_json(json) {}
+
+    /// Room for `features` boxes (at most the box budget), kept at once.
+    void reserve(std::size_t features) { m_entries.reserve(std::min(features, m_max_entries)); }
 
     /// A feature written with this FID and geometry (null and empty geometries are not indexed,
     /// as in GDAL's triggers).
@@ -67,9 +74,15 @@ public:
     /// message ending with `outcome` (what was left at OUT).
     void write(GDALDataset& dataset, OGRLayer& layer, const std::string& path, const std::string& outcome);
 
+    /// Whether write() put the integer tables in as JSON (false before it, on the VALUES path
+    /// and when GDAL built the index).
+    bool wrote_json() const { return m_wrote_json; }
+
 private:
     std::size_t m_max_entries;
     std::vector<RtreeEntry> m_entries;
+    bool m_json;
+    bool m_wrote_json = false;
     bool m_fallback = false;
 };
 

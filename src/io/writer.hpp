@@ -80,6 +80,9 @@ public:
     LayerWriter(const LayerWriter&) = delete;
     LayerWriter& operator=(const LayerWriter&) = delete;
 
+    /// A hint: about `features` features will be written to `layer` (the spatial index keeps
+    /// room for their boxes at once instead of growing its list by copies).
+    void expect(std::size_t layer, std::size_t features);
     /// Writes the attributes of `source` (by field index) with `geometry` (ownership taken,
     /// may be null). Returns "" on success, else the driver's message (problem 902). Throws
     /// io_error when a write to disk failed (full disk, file size limit): the run cannot go on.

@@ -9,11 +9,79 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
 namespace trisnap::tiling {
 namespace {
 
-using Blob = std::shared_ptr<const std::string>;
+/// A file's bytes in chunks that never move: a file grows by a chunk, not by copying what it
+/// holds into a buffer twice as large, and no chunk is larger than 1 MiB, so every one comes
+/// from the heap (app/allocator.hpp: its pages huge; a std::string of the spool's 43 MB on
+/// Andorra x43 was a mapping of its own, faulted in 4 KiB at a time, and copied at each
+/// doubling). Chunks grow with the file, from 256 bytes (a tile's small files) to 1 MiB.
+///
+/// Copies share their chunks: a copy that grows writes into its last chunk past the end of the
+/// original, bytes the original never reads (it reads below its own size only).
+class Chunks {
+public:
+    void append(std::string_view bytes)
+    {
+        while (!bytes.empty()) {
+            if (m_chunks.empty() || m_chunks.back().used == m_chunks.back().capacity) {
+                add_chunk(bytes.size());
+            }
+            Chunk& c = m_chunks.back();
+            const std::size_t k = std::min(bytes.size(), c.capacity - c.used);
+            std::memcpy(c.data.get() + c.used, bytes.data(), k);
+            c.used += k;
+            m_size += k;
+            bytes.remove_prefix(k);
+        }
+    }
+    std::uint64_t size() const { return m_size; }
+    /// Bytes [offset, offset + n), which the caller has checked are within size().
+    void read(std::uint64_t offset, char* out, std::size_t n) const
+    {
+        if (n == 0) {
+            return;
+        }
+        // The chunk holding `offset`: the one before the first that starts after it.
+        auto k = static_cast<std::size_t>(std::upper_bound(m_chunks.begin(), m_chunks.end(), offset,
+                                                           [](std::uint64_t o, const Chunk& c) { return o < c.start; }) -
+                                          m_chunks.begin()) - 1;
+        for (; n > 0; ++k) {
+            const Chunk& c = m_chunks[k];
+            const auto at = static_cast<std::size_t>(offset - c.start);
+            const std::size_t part = std::min(n, c.used - at);
+            std::memcpy(out, c.data.get() + at, part);
+            out += part;
+            offset += part;
+            n -= part;
+        }
+    }
+
+private:
+    struct Chunk {
+        std::shared_ptr<char[]> data;
+        std::size_t capacity = 0;
+        std::size_t used = 0;
+        std::uint64_t start = 0; ///< the file offset of its first byte
+    };
+    void add_chunk(std::size_t wanted)
+    {
+        constexpr std::uint64_t k_smallest = 256;
+        constexpr std::uint64_t k_largest = 1 << 20;
+        const auto capacity = static_cast<std::size_t>(
+            std::max(std::clamp(m_size, k_smallest, k_largest), std::min<std::uint64_t>(wanted, k_largest)));
+        // new char[]: not zeroed (make_shared<char[]> would write every page before we do).
+        m_chunks.push_back(Chunk{std::shared_ptr<char[]>(new char[capacity]), capacity, 0, m_size});
+    }
+
+    std::vector<Chunk> m_chunks;
+    std::uint64_t m_size = 0;
+};
+
+using Blob = std::shared_ptr<const Chunks>;
 
 class MemoryStore;
 
@@ -27,7 +95,7 @@ public:
 private:
     MemoryStore& m_store;
     std::string m_name;
-    std::string m_data;
+    Chunks m_data;
 };
 
 class MemInFile : public InFile {
@@ -35,8 +103,8 @@ public:
     explicit MemInFile(Blob data) : m_data(std::move(data)) {}
     std::size_t read(char* out, std::size_t n) override
     {
-        const std::size_t k = std::min(n, m_data->size() - m_pos);
-        std::memcpy(out, m_data->data() + m_pos, k);
+        const auto k = static_cast<std::size_t>(std::min<std::uint64_t>(n, m_data->size() - m_pos));
+        m_data->read(m_pos, out, k);
         m_pos += k;
         return k;
     }
@@ -45,13 +113,13 @@ public:
         if (offset > m_data->size() || n > m_data->size() - offset) {
             throw work_error("damaged work file in memory: shorter than its records say");
         }
-        std::memcpy(out, m_data->data() + offset, n);
+        m_data->read(offset, out, n);
     }
     std::uint64_t size() const override { return m_data->size(); }
 
 private:
     Blob m_data;
-    std::size_t m_pos = 0;
+    std::uint64_t m_pos = 0;
 };
 
 class MemoryStore : public WorkStore {
@@ -76,11 +144,11 @@ public:
     void append(const std::string& name, std::string_view bytes) override
     {
         const std::lock_guard lock(m_mutex);
-        std::shared_ptr<std::string>& b = m_files[name];
+        std::shared_ptr<Chunks>& b = m_files[name];
         if (!b) {
-            b = std::make_shared<std::string>();
-        } else if (b.use_count() > 1) { // someone reads it: leave them their copy
-            b = std::make_shared<std::string>(*b);
+            b = std::make_shared<Chunks>();
+        } else if (b.use_count() > 1) { // someone reads it: leave them their copy (its chunks shared)
+            b = std::make_shared<Chunks>(*b);
         }
         b->append(bytes);
     }
@@ -103,10 +171,10 @@ public:
     bool on_disk() const override { return false; }
     std::string where() const override { return "memory"; }
 
-    void install(const std::string& name, std::string data)
+    void install(const std::string& name, Chunks data)
     {
         const std::lock_guard lock(m_mutex);
-        m_files[name] = std::make_shared<std::string>(std::move(data));
+        m_files[name] = std::make_shared<Chunks>(std::move(data));
     }
 
 private:
@@ -121,7 +189,7 @@ private:
     }
 
     mutable std::mutex m_mutex;
-    std::map<std::string, std::shared_ptr<std::string>> m_files;
+    std::map<std::string, std::shared_ptr<Chunks>> m_files;
 };
 
 void MemOutFile::commit() { m_store.install(m_name, std::move(m_data)); }

@@ -1,26 +1,28 @@
 #pragma once
 // The process's malloc: glibc's, told to keep what the process frees for its next allocations
-// instead of handing it back to the kernel and faulting it in again. Measured (2026-11-27, one
-// and two threads, medians of 3, load 1.4 on 2 cores; REPORT.md "Lean engine"): against oneTBB's
-// tbbmalloc_proxy, which this replaced, CPU -18 to -23 % on every shared layer, 2-thread wall
-// -15 to -25 %, peak memory equal or lower. A page fault costs ~7 us on this VM, and tbbmalloc
-// unmapped and re-mapped 330 of its 480 MB on Natural Earth's land (97 k faults; 45 k now).
-#include <climits> // first: it brings glibc's <features.h>, which defines __GLIBC__
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
+// instead of handing it back to the kernel and faulting it in again, and to take its heap in
+// transparent huge pages where the kernel gives them on request.
+//
+// Measured (2026-11-27, one and two threads, medians of 3, load 1.4 on 2 cores; REPORT.md "Lean
+// engine"): against oneTBB's tbbmalloc_proxy, which this replaced, CPU -18 to -23 % on every
+// shared layer, 2-thread wall -15 to -25 %, peak memory equal or lower. A page fault costs ~7 us
+// on this VM, and tbbmalloc unmapped and re-mapped 330 of its 480 MB on Natural Earth's land
+// (97 k faults; 45 k now). The huge pages: REPORT.md "Huge pages for the heap" (2026-11-28).
 
 namespace trisnap {
 
 /// Call first thing in main(). Blocks up to 32 MiB (the most glibc takes) come from the heap,
 /// not from a mapping of their own, and the heap's free top is never trimmed: freed memory is
-/// reused, peak memory is unchanged (it is what was live at the worst moment).
-inline void keep_freed_memory()
-{
-#if defined(__GLIBC__)
-    mallopt(M_MMAP_THRESHOLD, 32 * 1024 * 1024);
-    mallopt(M_TRIM_THRESHOLD, INT_MAX);
-#endif
-}
+/// reused, peak memory is unchanged (it is what was live at the worst moment). Then the heap is
+/// grown at once by up to 1 GiB of address space (not of memory: nothing is touched) and that
+/// range advised for transparent huge pages (MADV_HUGEPAGE): a first touch there faults in 2 MiB,
+/// not 4 KiB. Only where the kernel's THP mode is "madvise" (with "always" every page is huge
+/// already, with "never" none can be), the overcommit policy is not strict (2: the range would
+/// count against it), and a quarter of RLIMIT_DATA and RLIMIT_AS allows it; at most 1/8 of the
+/// memory. TRISNAP_HUGE_PAGES=0 in the environment turns it off.
+void keep_freed_memory();
+
+/// The bytes of heap advised for huge pages by keep_freed_memory() (0: none).
+unsigned long long huge_page_heap_bytes();
 
 } // namespace trisnap

@@ -1,0 +1,100 @@
+#include "app/allocator.hpp"
+
+#include "app/memory.hpp"
+
+#include <algorithm>
+#include <climits>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#if defined(__GLIBC__)
+#include <malloc.h>
+#include <sys/mman.h>
+#include <sys/resource.h>
+#endif
+
+namespace trisnap {
+namespace {
+
+unsigned long long g_advised = 0;
+
+#if defined(__GLIBC__)
+constexpr std::size_t k_block = std::size_t{16} << 20;  // below the mmap threshold: taken from the heap
+constexpr std::uint64_t k_most = std::uint64_t{1} << 30; // and below the trim threshold (INT_MAX) once freed
+
+std::string first_line(const char* path)
+{
+    std::ifstream in(path);
+    std::string line;
+    std::getline(in, line);
+    return line;
+}
+
+std::uint64_t quarter_of_limit(int resource)
+{
+    rlimit r{};
+    if (getrlimit(resource, &r) != 0 || r.rlim_cur == RLIM_INFINITY) {
+        return UINT64_MAX;
+    }
+    return static_cast<std::uint64_t>(r.rlim_cur) / 4;
+}
+
+/// The heap grown by `bytes` (blocks malloc'ed and freed again: the heap keeps them in its top,
+/// which is never trimmed) and that range advised for huge pages. Returns the bytes advised.
+std::uint64_t advise_huge_heap(std::uint64_t bytes)
+{
+    std::vector<void*> blocks;
+    blocks.reserve(static_cast<std::size_t>(bytes / k_block) + 1);
+    std::uintptr_t lo = UINTPTR_MAX;
+    std::uintptr_t hi = 0;
+    for (std::uint64_t got = 0; got + k_block <= bytes; got += k_block) {
+        void* p = std::malloc(k_block);
+        if (p == nullptr) {
+            break; // as far as the heap would grow
+        }
+        blocks.push_back(p);
+        lo = std::min(lo, reinterpret_cast<std::uintptr_t>(p));
+        hi = std::max(hi, reinterpret_cast<std::uintptr_t>(p) + k_block);
+    }
+    std::uint64_t advised = 0;
+    const std::uintptr_t page = 4096;
+    const std::uintptr_t from = lo & ~(page - 1); // the page of the first block's header too
+    const std::uintptr_t to = hi & ~(page - 1);
+    // Blocks from the heap lie side by side; a gap (another mapping in between) would fail the
+    // advice, which then changes nothing: the pages stay 4 KiB.
+    if (!blocks.empty() && to > from && madvise(reinterpret_cast<void*>(from), to - from, MADV_HUGEPAGE) == 0) {
+        advised = to - from;
+    }
+    for (void* p : blocks) {
+        std::free(p);
+    }
+    return advised;
+}
+#endif
+
+} // namespace
+
+void keep_freed_memory()
+{
+#if defined(__GLIBC__)
+    mallopt(M_MMAP_THRESHOLD, 32 * 1024 * 1024);
+    mallopt(M_TRIM_THRESHOLD, INT_MAX);
+    if (const char* off = std::getenv("TRISNAP_HUGE_PAGES"); off != nullptr && std::strcmp(off, "0") == 0) {
+        return;
+    }
+    if (first_line("/sys/kernel/mm/transparent_hugepage/enabled").find("[madvise]") == std::string::npos ||
+        first_line("/proc/sys/vm/overcommit_memory") == "2") {
+        return;
+    }
+    const std::uint64_t bytes = std::min({k_most, physical_memory() / 8, quarter_of_limit(RLIMIT_DATA), quarter_of_limit(RLIMIT_AS)});
+    g_advised = advise_huge_heap(bytes);
+#endif
+}
+
+unsigned long long huge_page_heap_bytes() { return g_advised; }
+
+} // namespace trisnap

@@ -109,6 +109,44 @@ TEST_P(StoreTest, FilesAppearOnlyWhenCommitted)
     EXPECT_THROW(store->open("missing"), tiling::work_error);
 }
 
+// A file appended to while it is open: the reader keeps what it opened (in memory the two share
+// the chunks written before, and the appends go past the reader's end; on disk its size() and
+// bytes up to it), a new open sees it all.
+// Pieces of odd sizes, so that they straddle the memory store's chunks (256 bytes up to 1 MiB).
+TEST_P(StoreTest, AppendsWhileAFileIsOpenLeaveItsReaderWhatItOpened)
+{
+    auto store = make();
+    std::string all;
+    const auto add = [&](int from, int to) {
+        for (int i = from; i < to; ++i) {
+            const std::string piece(static_cast<std::size_t>(1 + (i * 7919) % 3001), static_cast<char>('a' + i % 26));
+            store->append("b", piece);
+            all += piece;
+        }
+    };
+    add(0, 500);
+    const std::string first = all;
+    auto reader = store->open("b");
+    add(500, 1000);
+    ASSERT_EQ(reader->size(), first.size());
+    std::string got(first.size(), '\0');
+    std::size_t n = 0;
+    while (n < got.size()) {
+        const std::size_t k = reader->read(got.data() + n, std::min<std::size_t>(4093, got.size() - n));
+        ASSERT_GT(k, 0u);
+        n += k;
+    }
+    EXPECT_EQ(got, first);
+    if (!GetParam()) { // on disk the open file is the file, and reads on past its old end
+        char past = 0;
+        EXPECT_EQ(reader->read(&past, 1), 0u) << "the reader ends where it opened the file";
+    }
+    EXPECT_EQ(store->get("b"), all);
+    std::string middle(5000, '\0');
+    store->open("b")->read_at(first.size() - 2500, middle.data(), middle.size());
+    EXPECT_EQ(middle, all.substr(first.size() - 2500, 5000));
+}
+
 TEST_P(StoreTest, RecordsStreamAndSeekAndRefuseTruncation)
 {
     auto store = make();

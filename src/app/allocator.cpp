@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#if defined(__GLIBC__)
+#if defined(__GLIBC__) && !defined(TRISNAP_SANITIZED_MALLOC)
 #include <malloc.h>
 #include <sys/mman.h>
 #include <sys/resource.h>
@@ -22,7 +22,7 @@ namespace {
 
 unsigned long long g_advised = 0;
 
-#if defined(__GLIBC__)
+#if defined(__GLIBC__) && !defined(TRISNAP_SANITIZED_MALLOC)
 constexpr std::size_t k_block = std::size_t{16} << 20;  // below the mmap threshold: taken from the heap
 constexpr std::uint64_t k_most = std::uint64_t{1} << 30; // and below the trim threshold (INT_MAX) once freed
 
@@ -80,7 +80,7 @@ std::uint64_t advise_huge_heap(std::uint64_t bytes)
 
 void keep_freed_memory()
 {
-#if defined(__GLIBC__)
+#if defined(__GLIBC__) && !defined(TRISNAP_SANITIZED_MALLOC)
     mallopt(M_MMAP_THRESHOLD, 32 * 1024 * 1024);
     mallopt(M_TRIM_THRESHOLD, INT_MAX);
     if (const char* off = std::getenv("TRISNAP_HUGE_PAGES"); off != nullptr && std::strcmp(off, "0") == 0) {

@@ -8,15 +8,32 @@
 // shared layer, 2-thread wall -15 to -25 %, peak memory equal or lower. A page fault costs ~7 us
 // on this VM, and tbbmalloc unmapped and re-mapped 330 of its 480 MB on Natural Earth's land
 // (97 k faults; 45 k now). The huge pages: REPORT.md "Huge pages for the heap" (2026-11-28).
+#include <climits> // brings glibc's <features.h>, which defines __GLIBC__
+
+#if defined(__SANITIZE_ADDRESS__)
+#define TRISNAP_SANITIZED_MALLOC 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define TRISNAP_SANITIZED_MALLOC 1
+#endif
+#endif
 
 namespace trisnap {
 
+/// Whether the process allocates with glibc's malloc, which keep_freed_memory() tunes (not
+/// elsewhere, nor under AddressSanitizer, whose allocator replaces it).
+#if defined(__GLIBC__) && !defined(TRISNAP_SANITIZED_MALLOC)
+inline constexpr bool k_glibc_malloc = true;
+#else
+inline constexpr bool k_glibc_malloc = false;
+#endif
+
 /// Call first thing in main(). Blocks up to 32 MiB (the most glibc takes) come from the heap,
 /// not from a mapping of their own, and the heap's free top is never trimmed: freed memory is
-/// reused, peak memory is unchanged (it is what was live at the worst moment). Then the heap is
-/// grown at once by up to 1 GiB of address space (not of memory: nothing is touched) and that
-/// range advised for transparent huge pages (MADV_HUGEPAGE): a first touch there faults in 2 MiB,
-/// not 4 KiB. Only where the kernel's THP mode is "madvise" (with "always" every page is huge
+/// reused, the peak is what was live at the worst moment. Then the heap is grown at once by up
+/// to 1 GiB of address space (not of memory: nothing is touched) and that range advised for
+/// transparent huge pages (MADV_HUGEPAGE): a first touch there faults in 2 MiB, not 4 KiB (the
+/// peak rounds up to them: +1 to 3 % measured). Only where the kernel's THP mode is "madvise" (with "always" every page is huge
 /// already, with "never" none can be), the overcommit policy is not strict (2: the range would
 /// count against it), and a quarter of RLIMIT_DATA and RLIMIT_AS allows it; at most 1/8 of the
 /// memory. TRISNAP_HUGE_PAGES=0 in the environment turns it off.

@@ -288,7 +288,7 @@ const char* LayerWriter::outcome() const
 void LayerWriter::throw_if_write_failed() const
 {
     if (!write_failure_recorded()) {
-        return; // after every feature: not even the scope's path is made (3 % of the write phase)
+        return; // after every feature: not even the scope's path is made (3 % of write_lending's time)
     }
     const std::string failure = take_write_failure(failure_scope());
     if (!failure.empty()) {

@@ -58,6 +58,9 @@ bool advised(const void* p) { return flags_of(p).find(" hg") != std::string::npo
 
 TEST(Allocator, TheHeapIsAdvisedForHugePagesWhereTheKernelGivesThemOnRequest)
 {
+    if (!k_glibc_malloc) {
+        GTEST_SKIP() << "not glibc's malloc (another C library, or AddressSanitizer's allocator)";
+    }
     if (!huge_pages_on_request()) {
         GTEST_SKIP() << "this kernel does not give huge pages on request (THP mode not madvise, or strict overcommit)";
     }

@@ -43,6 +43,31 @@ std::uint64_t quarter_of_limit(int resource)
     return static_cast<std::uint64_t>(r.rlim_cur) / 4;
 }
 
+/// Whether [from, to) lies inside one mapping of the heap ("[heap]" in /proc/self/maps): the
+/// blocks came from growing it, none from a mapping of their own somewhere else (glibc falls back
+/// to mmap when the heap cannot grow in place), so advising the range touches nothing else.
+bool inside_the_heap(std::uintptr_t from, std::uintptr_t to)
+{
+    std::ifstream maps("/proc/self/maps");
+    std::string line;
+    while (std::getline(maps, line)) {
+        if (line.size() < 6 || line.compare(line.size() - 6, 6, "[heap]") != 0) {
+            continue;
+        }
+        const std::size_t dash = line.find('-');
+        const std::size_t space = line.find(' ', dash);
+        if (dash == std::string::npos || space == std::string::npos) {
+            continue;
+        }
+        const auto lo = static_cast<std::uintptr_t>(std::stoull(line.substr(0, dash), nullptr, 16));
+        const auto hi = static_cast<std::uintptr_t>(std::stoull(line.substr(dash + 1, space - dash - 1), nullptr, 16));
+        if (lo <= from && to <= hi) {
+            return true;
+        }
+    }
+    return false;
+}
+
 /// The heap grown by `bytes` (blocks malloc'ed and freed again: the heap keeps them in its top,
 /// which is never trimmed) and that range advised for huge pages. Returns the bytes advised.
 std::uint64_t advise_huge_heap(std::uint64_t bytes)
@@ -64,9 +89,8 @@ std::uint64_t advise_huge_heap(std::uint64_t bytes)
     const std::uintptr_t page = 4096;
     const std::uintptr_t from = lo & ~(page - 1); // the page of the first block's header too
     const std::uintptr_t to = hi & ~(page - 1);
-    // Blocks from the heap lie side by side; a gap (another mapping in between) would fail the
-    // advice, which then changes nothing: the pages stay 4 KiB.
-    if (!blocks.empty() && to > from && madvise(reinterpret_cast<void*>(from), to - from, MADV_HUGEPAGE) == 0) {
+    if (!blocks.empty() && to > from && inside_the_heap(from, to) &&
+        madvise(reinterpret_cast<void*>(from), to - from, MADV_HUGEPAGE) == 0) {
         advised = to - from;
     }
     for (void* p : blocks) {

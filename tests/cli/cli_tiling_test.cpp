@@ -77,7 +77,9 @@ TEST(CliTiling, ALostSharedBoundaryIsReportedAlikeTiledAndUntiled)
         EXPECT_EQ(lost.size(), 54u) << "variant " << k;
         if (k == 0) first = lost;
         else EXPECT_EQ(lost, first) << "variant " << k << " reports other 210s than --no-tiles";
-        if (k == 2) EXPECT_GT(report["tiling"]["tiles"].get<int>(), 4);
+        if (k == 2) {
+            EXPECT_GT(report["tiling"]["tiles"].get<int>(), 4);
+        }
     }
 }
 

@@ -15,10 +15,11 @@ namespace trisnap::tiling {
 namespace {
 
 /// A file's bytes in chunks that never move: a file grows by a chunk, not by copying what it
-/// holds into a buffer twice as large, and no chunk is larger than 1 MiB, so every one comes
-/// from the heap (app/allocator.hpp: its pages huge; a std::string of the spool's 43 MB on
-/// Andorra x43 was a mapping of its own, faulted in 4 KiB at a time, and copied at each
-/// doubling). Chunks grow with the file, from 256 bytes (a tile's small files) to 1 MiB.
+/// holds into a buffer twice as large (a std::string's doubling left up to half of it as slack).
+/// Measured on Andorra x43 (bench/results/REPORT.md, "Huge pages for the heap"): peak -3 MiB
+/// (-6 with the heap in huge pages), time and page faults unchanged. No chunk is larger than
+/// 1 MiB, so every one comes from the heap (app/allocator.hpp). Chunks grow with the file, from
+/// 256 bytes (a tile's small files) to 1 MiB.
 ///
 /// Copies share their chunks: a copy that grows writes into its last chunk past the end of the
 /// original, bytes the original never reads (it reads below its own size only).

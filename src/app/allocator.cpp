@@ -15,6 +15,7 @@
 #include <malloc.h>
 #include <sys/mman.h>
 #include <sys/resource.h>
+#include <unistd.h>
 #endif
 
 namespace trisnap {
@@ -86,7 +87,7 @@ std::uint64_t advise_huge_heap(std::uint64_t bytes)
         hi = std::max(hi, reinterpret_cast<std::uintptr_t>(p) + k_block);
     }
     std::uint64_t advised = 0;
-    const std::uintptr_t page = 4096;
+    const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGE_SIZE));
     const std::uintptr_t from = lo & ~(page - 1); // the page of the first block's header too
     const std::uintptr_t to = hi & ~(page - 1);
     if (!blocks.empty() && to > from && inside_the_heap(from, to) &&

@@ -180,11 +180,9 @@ std::string checked_path(const std::filesystem::path& path)
     return k_prefix + std::filesystem::absolute(path).lexically_normal().string();
 }
 
-bool write_failure_recorded() { return g_failure_count.load() != 0; }
-
 std::string take_write_failure(const std::filesystem::path& directory)
 {
-    if (!write_failure_recorded()) {
+    if (g_failure_count.load() == 0) {
         return "";
     }
     const std::string dir = std::filesystem::absolute(directory).lexically_normal().string();

@@ -19,8 +19,5 @@ std::string checked_path(const std::filesystem::path& path);
 /// Forgets what it returns and everything else recorded under `directory`. Free when nothing
 /// failed anywhere, so it can be asked after every feature.
 std::string take_write_failure(const std::filesystem::path& directory);
-/// Whether any failure is recorded, anywhere (one atomic load): take_write_failure() has
-/// nothing to say while this is false.
-bool write_failure_recorded();
 
 } // namespace trisnap

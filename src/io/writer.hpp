@@ -135,7 +135,6 @@ private:
     void add_target(GDALDriver& driver, OGRLayer& source, bool renumber);
     bool take_existing(Target& t, OGRLayer& source);
     void delete_layer(const std::string& name);
-    std::filesystem::path failure_scope() const;
     const char* outcome() const;
     void create_layer(Target& t, OGRLayer& source, std::vector<std::string> options);
     void create_fields(Target& t, const OGRFeatureDefn& source);
@@ -149,6 +148,7 @@ private:
     TempDirectory m_temp;           ///< first: exists before, and is removed after, everything below
     bool m_streamed = false;        ///< OUT is stdout: written as it goes, no temporary or rename
     bool m_in_place = false;        ///< OUT exists and is updated in its transaction, no temporary or rename
+    std::filesystem::path m_failure_scope; ///< where a failed write counts: OUT's directory in place, else m_temp
     GDALDatasetUniquePtr m_dataset; ///< closed before m_temp is removed
     std::vector<Target> m_targets;  ///< one per source layer, in order
     std::string m_driver_name;

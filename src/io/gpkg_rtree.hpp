@@ -57,10 +57,11 @@ std::string rtree_node_blob(const std::vector<RtreeEntry>& cells, int depth, boo
 /// (its CreateSpatialIndex(), the slower insertion path): memory stays bounded.
 class GpkgIndexBuilder {
 public:
-    /// `json`: the integer tables (_rowid, _parent) go in as JSON objects read by SQLite's
-    /// json_each (where SQLite has it); false: as VALUES lists, the path of an SQLite without
-    /// JSON functions (the tests compare the two).
-    explicit GpkgIndexBuilder(std::size_t max_entries, bool json = true) : m_max_entries(max_entries), m_json(json) {}
+    /// `bound`: the index's rows go in through SQLite's own connection, as values bound to
+    /// statements prepared once (where GDAL hands the connection out); false: as SQL text
+    /// through GDAL's ExecuteSQL (the blobs in hex), the path of a GDAL that does not (the
+    /// tests compare the two).
+    explicit GpkgIndexBuilder(std::size_t max_entries, bool bound = true) : m_max_entries(max_entries), m_bound(bound) {}
 
     /// Room for `features` boxes (at most the box budget), kept at once.
     void reserve(std::size_t features) { m_entries.reserve(std::min(features, m_max_entries)); }
@@ -74,15 +75,15 @@ public:
     /// message ending with `outcome` (what was left at OUT).
     void write(GDALDataset& dataset, OGRLayer& layer, const std::string& path, const std::string& outcome);
 
-    /// Whether write() put the integer tables in as JSON (false before it, on the VALUES path
-    /// and when GDAL built the index).
-    bool wrote_json() const { return m_wrote_json; }
+    /// Whether write() put the rows in through SQLite's connection (false before it, on the
+    /// text path and when GDAL built the index).
+    bool wrote_bound() const { return m_wrote_bound; }
 
 private:
     std::size_t m_max_entries;
     std::vector<RtreeEntry> m_entries;
-    bool m_json;
-    bool m_wrote_json = false;
+    bool m_bound;
+    bool m_wrote_bound = false;
     bool m_fallback = false;
 };
 

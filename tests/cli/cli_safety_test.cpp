@@ -25,8 +25,10 @@ std::vector<FixtureFeature> many_polygons(int n, double scale = 1.0)
         std::string wkt = "POLYGON ((";
         for (int i = 0; i <= 24; ++i) {
             const double a = 2 * 3.14159265358979 * (i % 24) / 24;
-            wkt += (i ? "," : "") + std::to_string(cx + 3 * scale * std::cos(a)) + " " +
-                   std::to_string(cy + 3 * scale * std::sin(a));
+            if (i > 0) {
+                wkt += ',';
+            }
+            wkt.append(std::to_string(cx + 3 * scale * std::cos(a))).append(" ").append(std::to_string(cy + 3 * scale * std::sin(a)));
         }
         features.push_back({wkt + "))", {{"id", std::to_string(k)}, {"name", "polygon " + std::to_string(k)}}});
     }
@@ -78,7 +80,7 @@ TEST_F(CliSafety, ReportNamingTheInputUnderAnyNameIsRefused)
     const std::string before = file_bytes(in);
     fs::create_hard_link(in, dir.path("hard.json"));
     fs::create_symlink(in, dir.path("soft.json"));
-    for (const std::string report : {in, dir.path("hard.json"), dir.path("soft.json"), dir.path("./x/../in.gpkg")}) {
+    for (const std::string& report : {in, dir.path("hard.json"), dir.path("soft.json"), dir.path("./x/../in.gpkg")}) {
         fs::create_directories(dir.path("x"));
         const RunOutput r = run_trisnap(dir, {"snap", in, dir.path("out.gpkg"), "--tolerance", "0.01", "--report", report});
         expect_error(r, 2, "is a file of the input");

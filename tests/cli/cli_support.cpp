@@ -193,10 +193,12 @@ std::vector<std::string> leftovers(const std::string& dir)
 RunOutput run_trisnap(const TempDir& dir, const std::vector<std::string>& args)
 {
     std::string command = quote(trisnap_exe());
-    for (const auto& a : args) command += " " + quote(a);
+    for (const auto& a : args) {
+        command.append(" ").append(quote(a));
+    }
     const std::string out = dir.path("stdout.txt");
     const std::string err = dir.path("stderr.txt");
-    command += " >" + quote(out) + " 2>" + quote(err) + " </dev/null";
+    command.append(" >").append(quote(out)).append(" 2>").append(quote(err)).append(" </dev/null");
     const int status = std::system(command.c_str());
     RunOutput result;
     result.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);

@@ -19,7 +19,7 @@ FROM debian:12-slim
 # list against the built binary. bash-completion is left out: a container runs commands, not a shell.
 RUN apt-get update \
     && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
-       libgdal32 libtbb12 libgmp10 libtomlplusplus3 libspdlog1.10 libfmt9 man-db \
+       libgdal32 libsqlite3-0 libtbb12 libgmp10 libtomlplusplus3 libspdlog1.10 libfmt9 man-db \
     && rm -rf /var/lib/apt/lists/*
 COPY --from=build /opt/trisnap /usr/local
 RUN trisnap --version

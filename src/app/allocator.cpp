@@ -21,8 +21,6 @@
 namespace trisnap {
 namespace {
 
-unsigned long long g_advised = 0;
-
 #if defined(__GLIBC__) && !defined(TRISNAP_SANITIZED_MALLOC)
 constexpr std::size_t k_block = std::size_t{16} << 20;  // below the mmap threshold: taken from the heap
 constexpr std::uint64_t k_most = std::uint64_t{1} << 30; // and below the trim threshold (INT_MAX) once freed
@@ -70,8 +68,8 @@ bool inside_the_heap(std::uintptr_t from, std::uintptr_t to)
 }
 
 /// The heap grown by `bytes` (blocks malloc'ed and freed again: the heap keeps them in its top,
-/// which is never trimmed) and that range advised for huge pages. Returns the bytes advised.
-std::uint64_t advise_huge_heap(std::uint64_t bytes)
+/// which is never trimmed) and that range advised for huge pages.
+void advise_huge_heap(std::uint64_t bytes)
 {
     std::vector<void*> blocks;
     blocks.reserve(static_cast<std::size_t>(bytes / k_block) + 1);
@@ -86,18 +84,15 @@ std::uint64_t advise_huge_heap(std::uint64_t bytes)
         lo = std::min(lo, reinterpret_cast<std::uintptr_t>(p));
         hi = std::max(hi, reinterpret_cast<std::uintptr_t>(p) + k_block);
     }
-    std::uint64_t advised = 0;
     const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGE_SIZE));
     const std::uintptr_t from = lo & ~(page - 1); // the page of the first block's header too
     const std::uintptr_t to = hi & ~(page - 1);
-    if (!blocks.empty() && to > from && inside_the_heap(from, to) &&
-        madvise(reinterpret_cast<void*>(from), to - from, MADV_HUGEPAGE) == 0) {
-        advised = to - from;
+    if (!blocks.empty() && to > from && inside_the_heap(from, to)) {
+        madvise(reinterpret_cast<void*>(from), to - from, MADV_HUGEPAGE); // refused: the heap stays as it was
     }
     for (void* p : blocks) {
         std::free(p);
     }
-    return advised;
 }
 #endif
 
@@ -116,10 +111,8 @@ void keep_freed_memory()
         return;
     }
     const std::uint64_t bytes = std::min({k_most, physical_memory() / 8, quarter_of_limit(RLIMIT_DATA), quarter_of_limit(RLIMIT_AS)});
-    g_advised = advise_huge_heap(bytes);
+    advise_huge_heap(bytes);
 #endif
 }
-
-unsigned long long huge_page_heap_bytes() { return g_advised; }
 
 } // namespace trisnap

@@ -39,7 +39,4 @@ inline constexpr bool k_glibc_malloc = false;
 /// memory. TRISNAP_HUGE_PAGES=0 in the environment turns it off.
 void keep_freed_memory();
 
-/// The bytes of heap advised for huge pages by keep_freed_memory() (0: none).
-unsigned long long huge_page_heap_bytes();
-
 } // namespace trisnap

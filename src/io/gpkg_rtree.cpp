@@ -9,7 +9,6 @@
 #include <cfloat>
 #include <cmath>
 #include <cstring>
-#include <functional>
 #include <limits>
 #include <tuple>
 #include <utility>
@@ -143,18 +142,17 @@ std::string quoted(const std::string& text, char quote)
 std::string identifier(const std::string& name) { return quoted(name, '"'); }
 std::string literal(const std::string& text) { return quoted(text, '\''); }
 
-std::string hex(const std::string& bytes)
-{
-    static constexpr char digits[] = "0123456789ABCDEF";
-    std::string out = "X'";
-    out.reserve(bytes.size() * 2 + 3);
-    for (char c : bytes) {
-        const auto b = static_cast<unsigned char>(c);
-        out += digits[b >> 4];
-        out += digits[b & 0xf];
+/// Where the index goes, for the error that names it: OUT's path, the layer, and what was left at
+/// OUT (the writer's outcome).
+struct IndexTarget {
+    const std::string& path;
+    const std::string& layer;
+    const std::string& outcome;
+    [[noreturn]] void fail(const std::string& message) const
+    {
+        throw io_error(path, layer, "cannot write the spatial index: " + message + outcome);
     }
-    return out + "'";
-}
+};
 
 /// A statement prepared once on SQLite's own connection and run again with new values bound:
 /// no SQL text per row for SQLite to compile, nor for GDAL's ExecuteSQL to scan (it searches
@@ -162,58 +160,78 @@ std::string hex(const std::string& bytes)
 /// on 247,551 features when the rows went in as text).
 class Prepared {
 public:
-    using Fail = std::function<void(const std::string&)>;
-    Prepared(sqlite3* db, const std::string& text, const Fail& fail) : m_db(db), m_fail(fail)
+    Prepared(sqlite3* db, const std::string& text, const IndexTarget& target) : m_db(db), m_target(target)
     {
-        if (sqlite3_prepare_v2(m_db, text.c_str(), static_cast<int>(text.size()), &m_statement, nullptr) != SQLITE_OK) {
-            m_fail(sqlite3_errmsg(m_db));
-        }
+        check(sqlite3_prepare_v2(m_db, text.c_str(), static_cast<int>(text.size()), &m_statement, nullptr));
     }
     ~Prepared() { sqlite3_finalize(m_statement); }
     Prepared(const Prepared&) = delete;
     Prepared& operator=(const Prepared&) = delete;
 
-    void bind(int at, std::int64_t value)
-    {
-        if (sqlite3_bind_int64(m_statement, at, value) != SQLITE_OK) {
-            m_fail(sqlite3_errmsg(m_db));
-        }
-    }
+    void bind(int at, std::int64_t value) { check(sqlite3_bind_int64(m_statement, at, value)); }
     void bind(int at, const std::string& blob)
     {
-        if (sqlite3_bind_blob(m_statement, at, blob.data(), static_cast<int>(blob.size()), SQLITE_TRANSIENT) != SQLITE_OK) {
-            m_fail(sqlite3_errmsg(m_db));
-        }
+        check(sqlite3_bind_blob(m_statement, at, blob.data(), static_cast<int>(blob.size()), SQLITE_TRANSIENT));
     }
     /// Runs it with the values bound, then makes it ready for the next ones.
     void run()
     {
         const int rc = sqlite3_step(m_statement);
         sqlite3_reset(m_statement);
-        if (rc != SQLITE_DONE) {
-            m_fail(sqlite3_errmsg(m_db));
-        }
+        check(rc == SQLITE_DONE ? SQLITE_OK : rc);
     }
 
 private:
+    void check(int rc) const
+    {
+        if (rc != SQLITE_OK) {
+            m_target.fail(sqlite3_errmsg(m_db));
+        }
+    }
+
     sqlite3* m_db;
-    const Fail& m_fail;
+    const IndexTarget& m_target;
     sqlite3_stmt* m_statement = nullptr;
 };
 
-/// SQL on the GeoPackage through GDAL (its SQLite connection, inside the writer's transaction),
-/// and the rows of the index's tables straight through that connection where GDAL hands it
-/// out (GDALDataset::GetInternalHandle("SQLITE_HANDLE"), GDAL's SQLite-based drivers).
+/// The rows 0 .. count - 1 of two columns into `table` through SQLite's connection `db`, in that
+/// order: `bind(statement, first parameter, i)` binds row i's two values. Rows go `k_rows` to a
+/// statement (one VALUES list of bound parameters, compiled once), the rest one at a time.
+template <class Bind>
+void insert_rows(sqlite3* db, const IndexTarget& target, const std::string& table, std::size_t count, const Bind& bind)
+{
+    constexpr std::size_t k_rows = 128; // 256 parameters: within SQLite's limit of 999 since 3.0
+    const auto text = [&](std::size_t rows) {
+        std::string t = "INSERT INTO " + identifier(table) + " VALUES ";
+        for (std::size_t r = 0; r < rows; ++r) {
+            t += r == 0 ? "(?,?)" : ",(?,?)";
+        }
+        return t;
+    };
+    std::size_t i = 0;
+    if (count >= k_rows) {
+        Prepared many(db, text(k_rows), target);
+        for (; i + k_rows <= count; i += k_rows) {
+            for (std::size_t r = 0; r < k_rows; ++r) {
+                bind(many, static_cast<int>(2 * r) + 1, i + r);
+            }
+            many.run();
+        }
+    }
+    if (i < count) {
+        Prepared one(db, text(1), target);
+        for (; i < count; ++i) {
+            bind(one, 1, i);
+            one.run();
+        }
+    }
+}
+
+/// SQL on the GeoPackage through GDAL (its SQLite connection, inside the writer's transaction):
+/// the statements that make the index's tables, its triggers and its extension row.
 class Sql {
 public:
-    Sql(GDALDataset& dataset, const std::string& path, const std::string& layer, const std::string& outcome)
-        : m_dataset(dataset), m_path(path), m_layer(layer), m_outcome(outcome),
-          m_fail([this](const std::string& message) { fail(message); })
-    {
-    }
-
-    /// SQLite's connection, null where GDAL does not hand it out.
-    sqlite3* handle() const { return static_cast<sqlite3*>(m_dataset.GetInternalHandle("SQLITE_HANDLE")); }
+    Sql(GDALDataset& dataset, const IndexTarget& target) : m_dataset(dataset), m_target(target) {}
 
     void run(const std::string& statement)
     {
@@ -241,77 +259,16 @@ public:
         return value;
     }
 
-    /// INSERT INTO table VALUES (row(0)), ..., (row(count - 1)), in statements of at most
-    /// `batch` rows (the text of one statement at a time, not of them all).
-    template <class Row>
-    void insert(const std::string& table, std::size_t count, std::size_t batch, const Row& row)
-    {
-        std::string statement;
-        for (std::size_t start = 0; start < count; start += batch) {
-            statement = "INSERT INTO " + identifier(table) + " VALUES ";
-            const std::size_t end = std::min(count, start + batch);
-            for (std::size_t i = start; i < end; ++i) {
-                statement += i == start ? "(" : ",(";
-                statement += row(i);
-                statement += ')';
-            }
-            run(statement);
-        }
-    }
-
-    /// The rows 0 .. count - 1 of two columns into `table` through SQLite's connection `db`, in
-    /// that order: `bind(statement, first parameter, i)` binds row i's two values. Rows go
-    /// `k_rows` to a statement (one VALUES list of bound parameters, compiled once), the rest
-    /// one at a time.
-    template <class Bind>
-    void insert_bound(sqlite3* db, const std::string& table, std::size_t count, const Bind& bind)
-    {
-        constexpr std::size_t k_rows = 128; // 256 parameters: within SQLite's limit of 999 since 3.0
-        const auto text = [&](std::size_t rows) {
-            std::string t = "INSERT INTO " + identifier(table) + " VALUES ";
-            for (std::size_t r = 0; r < rows; ++r) {
-                t += r == 0 ? "(?,?)" : ",(?,?)";
-            }
-            return t;
-        };
-        std::size_t i = 0;
-        if (count >= k_rows) {
-            Prepared many(db, text(k_rows), m_fail);
-            for (; i + k_rows <= count; i += k_rows) {
-                for (std::size_t r = 0; r < k_rows; ++r) {
-                    bind(many, static_cast<int>(2 * r) + 1, i + r);
-                }
-                many.run();
-            }
-        }
-        if (i < count) {
-            Prepared one(db, text(1), m_fail);
-            for (; i < count; ++i) {
-                bind(one, 1, i);
-                one.run();
-            }
-        }
-    }
-
-    const Prepared::Fail& fail_with() const { return m_fail; }
-
 private:
-    [[noreturn]] void fail(const std::string& message) const
-    {
-        throw io_error(m_path, m_layer, "cannot write the spatial index: " + message + m_outcome);
-    }
     void check(const ScopedErrorCapture& capture) const
     {
         if (!capture.errors().empty()) {
-            fail(capture.last_error());
+            m_target.fail(capture.last_error());
         }
     }
 
     GDALDataset& m_dataset;
-    const std::string& m_path;
-    const std::string& m_layer;
-    const std::string& m_outcome;
-    Prepared::Fail m_fail;
+    const IndexTarget& m_target;
 };
 
 /// The GeoPackage R-tree extension's triggers (spec 1.2, F.3), which keep the index in step
@@ -434,8 +391,12 @@ void GpkgIndexBuilder::write(GDALDataset& dataset, OGRLayer& layer, const std::s
 {
     const std::string table = layer.GetName();
     const std::string column = layer.GetGeometryColumn();
-    Sql sql(dataset, path, table, outcome);
-    if (m_fallback) {
+    const IndexTarget target{path, table, outcome};
+    Sql sql(dataset, target);
+    // The rows go in through GDAL's own SQLite connection (its GeoPackage driver hands it out);
+    // without it, or above the box budget, GDAL builds the index its own way.
+    auto* const db = static_cast<sqlite3*>(dataset.GetInternalHandle("SQLITE_HANDLE"));
+    if (m_fallback || db == nullptr) {
         sql.run("SELECT CreateSpatialIndex(" + literal(table) + ", " + literal(column) + ")");
         return;
     }
@@ -444,14 +405,29 @@ void GpkgIndexBuilder::write(GDALDataset& dataset, OGRLayer& layer, const std::s
     // SQLite sizes every node like the root it just made (page size - 64, at most 51 cells).
     const std::int64_t node_size = sql.integer("SELECT length(data) FROM " + identifier(rtree + "_node") + " WHERE nodeno = 1");
     if (node_size < static_cast<std::int64_t>(4 + 2 * k_cell_bytes)) {
-        throw io_error(path, table, "cannot write the spatial index: SQLite made an R-tree node of " +
-                                        std::to_string(node_size) + " bytes" + outcome);
+        target.fail("SQLite made an R-tree node of " + std::to_string(node_size) + " bytes");
     }
     const std::size_t max_cells = std::min(k_max_cells, (static_cast<std::size_t>(node_size) - 4) / k_cell_bytes);
     const PackedRtree tree = pack_rtree(std::move(m_entries), max_cells);
     m_entries = {};
 
+    const auto node_blob = [&](std::size_t k) {
+        return rtree_node_blob(tree.nodes[k], tree.depth, k == 0, static_cast<std::size_t>(node_size));
+    };
+    {
+        Prepared root(db, "UPDATE " + identifier(rtree + "_node") + " SET data = ? WHERE nodeno = 1", target);
+        root.bind(1, node_blob(0));
+        root.run();
+    }
     const std::size_t nodes = tree.nodes.size() - 1; // below the root: nodes[1..]
+    insert_rows(db, target, rtree + "_node", nodes, [&](Prepared& p, int at, std::size_t i) {
+        p.bind(at, static_cast<std::int64_t>(i + 2));
+        p.bind(at + 1, node_blob(i + 1));
+    });
+    insert_rows(db, target, rtree + "_parent", nodes, [&](Prepared& p, int at, std::size_t i) {
+        p.bind(at, static_cast<std::int64_t>(i + 2));
+        p.bind(at + 1, tree.parent[i + 1]);
+    });
     // The leaves' cells are the FIDs: the rowid table maps each to its leaf, in FID order.
     std::vector<std::pair<std::int64_t, std::int64_t>> leaf_of;
     for (std::size_t k = tree.first_leaf; k < tree.nodes.size(); ++k) {
@@ -460,39 +436,10 @@ void GpkgIndexBuilder::write(GDALDataset& dataset, OGRLayer& layer, const std::s
         }
     }
     std::sort(leaf_of.begin(), leaf_of.end());
-    const auto node_blob = [&](std::size_t k) {
-        return rtree_node_blob(tree.nodes[k], tree.depth, k == 0, static_cast<std::size_t>(node_size));
-    };
-    const auto parent = [&](std::size_t i) { return std::pair<std::int64_t, std::int64_t>(i + 2, tree.parent[i + 1]); };
-    sqlite3* db = m_bound ? sql.handle() : nullptr;
-    m_wrote_bound = db != nullptr;
-    if (db != nullptr) {
-        {
-            Prepared root(db, "UPDATE " + identifier(rtree + "_node") + " SET data = ? WHERE nodeno = 1", sql.fail_with());
-            root.bind(1, node_blob(0));
-            root.run();
-        }
-        sql.insert_bound(db, rtree + "_node", nodes, [&](Prepared& p, int at, std::size_t i) {
-            p.bind(at, static_cast<std::int64_t>(i + 2));
-            p.bind(at + 1, node_blob(i + 1));
-        });
-        sql.insert_bound(db, rtree + "_parent", nodes, [&](Prepared& p, int at, std::size_t i) {
-            p.bind(at, parent(i).first);
-            p.bind(at + 1, parent(i).second);
-        });
-        sql.insert_bound(db, rtree + "_rowid", leaf_of.size(), [&](Prepared& p, int at, std::size_t i) {
-            p.bind(at, leaf_of[i].first);
-            p.bind(at + 1, leaf_of[i].second);
-        });
-    } else { // a GDAL that does not hand out its SQLite connection: the rows as SQL text
-        const auto text = [](const std::pair<std::int64_t, std::int64_t>& p) {
-            return std::to_string(p.first) + "," + std::to_string(p.second);
-        };
-        sql.run("UPDATE " + identifier(rtree + "_node") + " SET data = " + hex(node_blob(0)) + " WHERE nodeno = 1");
-        sql.insert(rtree + "_node", nodes, 32, [&](std::size_t i) { return std::to_string(i + 2) + "," + hex(node_blob(i + 1)); });
-        sql.insert(rtree + "_parent", nodes, 1000, [&](std::size_t i) { return text(parent(i)); });
-        sql.insert(rtree + "_rowid", leaf_of.size(), 1000, [&](std::size_t i) { return text(leaf_of[i]); });
-    }
+    insert_rows(db, target, rtree + "_rowid", leaf_of.size(), [&](Prepared& p, int at, std::size_t i) {
+        p.bind(at, leaf_of[i].first);
+        p.bind(at + 1, leaf_of[i].second);
+    });
     for (const std::string& trigger : rtree_triggers(table, column, layer.GetFIDColumn(), rtree)) {
         sql.run(trigger);
     }

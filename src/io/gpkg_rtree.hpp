@@ -57,11 +57,7 @@ std::string rtree_node_blob(const std::vector<RtreeEntry>& cells, int depth, boo
 /// (its CreateSpatialIndex(), the slower insertion path): memory stays bounded.
 class GpkgIndexBuilder {
 public:
-    /// `bound`: the index's rows go in through SQLite's own connection, as values bound to
-    /// statements prepared once (where GDAL hands the connection out); false: as SQL text
-    /// through GDAL's ExecuteSQL (the blobs in hex), the path of a GDAL that does not (the
-    /// tests compare the two).
-    explicit GpkgIndexBuilder(std::size_t max_entries, bool bound = true) : m_max_entries(max_entries), m_bound(bound) {}
+    explicit GpkgIndexBuilder(std::size_t max_entries) : m_max_entries(max_entries) {}
 
     /// Room for `features` boxes (at most the box budget), kept at once.
     void reserve(std::size_t features) { m_entries.reserve(std::min(features, m_max_entries)); }
@@ -71,19 +67,15 @@ public:
     void add(std::int64_t fid, const OGRGeometry* geometry);
 
     /// Creates the index of `layer` (a table in `dataset`, inside its open transaction): the
-    /// R-tree table filled, its triggers, the extension row. Throws io_error naming `path`, its
-    /// message ending with `outcome` (what was left at OUT).
+    /// R-tree table filled (its rows bound to statements prepared once on GDAL's own SQLite
+    /// connection), its triggers, the extension row. Where the dataset does not hand out its
+    /// connection, GDAL builds the index as above the box budget. Throws io_error naming `path`,
+    /// its message ending with `outcome` (what was left at OUT).
     void write(GDALDataset& dataset, OGRLayer& layer, const std::string& path, const std::string& outcome);
-
-    /// Whether write() put the rows in through SQLite's connection (false before it, on the
-    /// text path and when GDAL built the index).
-    bool wrote_bound() const { return m_wrote_bound; }
 
 private:
     std::size_t m_max_entries;
     std::vector<RtreeEntry> m_entries;
-    bool m_bound;
-    bool m_wrote_bound = false;
     bool m_fallback = false;
 };
 

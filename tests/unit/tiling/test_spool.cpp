@@ -137,7 +137,7 @@ TEST_P(StoreTest, AppendsWhileAFileIsOpenLeaveItsReaderWhatItOpened)
         n += k;
     }
     EXPECT_EQ(got, first);
-    if (!GetParam()) { // on disk the open file is the file, and reads on past its old end
+    if (!GetParam()) { // in memory (on disk the open file is the file, and reads on past its old end)
         char past = 0;
         EXPECT_EQ(reader->read(&past, 1), 0u) << "the reader ends where it opened the file";
     }

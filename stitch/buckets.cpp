@@ -274,7 +274,7 @@ public:
         : m_store(store), m_meta(meta), m_tiling(tiling), m_options(options), m_progress(progress)
     {
     }
-    TileLayout run();
+    TileLayout run(tiling::PlanInput sample);
 
 private:
     void reach_pass();
@@ -469,9 +469,8 @@ void BucketMaker::split_oversize()
     }
 }
 
-TileLayout BucketMaker::run()
+TileLayout BucketMaker::run(tiling::PlanInput sample)
 {
-    tiling::PlanInput sample = m_meta.sample;
     m_layout.plan = tiling::make_plan(std::move(sample), m_tiling.plan);
     m_layout.halo = m_options.halo;
     m_layout.seam_band = m_options.seam_band;
@@ -489,10 +488,11 @@ TileLayout BucketMaker::run()
 
 } // namespace
 
-TileLayout make_buckets(tiling::WorkStore& store, const SpoolMeta& meta, const TilingOptions& tiling,
+TileLayout make_buckets(tiling::WorkStore& store, SpoolMeta& meta, const TilingOptions& tiling,
                         const BucketOptions& options, const PassProgress& progress)
 {
-    return BucketMaker(store, meta, tiling, options, progress).run();
+    tiling::PlanInput sample = meta.sample.take_vertices();
+    return BucketMaker(store, meta, tiling, options, progress).run(std::move(sample));
 }
 
 } // namespace trisnap::stitch

@@ -181,7 +181,7 @@ void FeatureSpool::add(std::uint64_t seq, std::int64_t fid, const Geometry& geom
     Impl& m = *m_impl;
     ++m.meta.records;
     m.note_fid(fid);
-    detail::CleanFeature cf = detail::clean_feature(Feature{fid, geometry}, seq, m.tolerance, problems);
+    const detail::CleanFeature cf = detail::clean_feature(fid, geometry, seq, m.tolerance, problems);
     std::uint64_t n = 0;
     for (const detail::CleanRing& r : cf.rings) {
         for (const Coord& c : r.points) {
@@ -234,7 +234,7 @@ SpoolMeta FeatureSpool::finish()
     tiling::ByteWriter w(bytes);
     m.meta.save(w, m.store.on_disk());
     m.store.put(files::spool_meta, bytes);
-    return m.meta;
+    return std::move(m.meta); // the sample is the caller's, not copied (up to 256 MiB)
 }
 
 SpooledFeatures::SpooledFeatures(const tiling::WorkStore& store, bool outline)

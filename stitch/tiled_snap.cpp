@@ -197,10 +197,11 @@ TiledRun::TiledRun(tiling::WorkStore& store, const SnapOptions& options, const T
 
 TiledRun::~TiledRun() = default;
 
-void TiledRun::plan(const SpoolMeta& meta, const PassProgress& progress)
+void TiledRun::plan(SpoolMeta& meta, const PassProgress& progress)
 {
     Impl& m = *m_impl;
-    m.meta = meta;
+    tiling::PlanInput sample = meta.sample.take_vertices();
+    m.meta = meta; // without the sample's vertices: one copy of them, the plan's
     if (m.store.exists(files::layout) && m.store.exists(files::groups)) {
         const std::string layout = m.store.get(files::layout);
         tiling::ByteReader lr(layout, "layout");
@@ -222,8 +223,8 @@ void TiledRun::plan(const SpoolMeta& meta, const PassProgress& progress)
         tiling.plan.vertex_budget = std::min<std::size_t>(tiling.plan.vertex_budget, std::max<std::uint64_t>(share, 16));
         bo.buffer_bytes = static_cast<std::size_t>(std::clamp<std::uint64_t>(m.schedule.memory_pool / 8, 1u << 20, 64u << 20));
     }
-    m.layout = make_buckets(m.store, meta, tiling, bo, progress);
-    m.meta.sample.drop_sample(); // only the plan needed them; the extent stays
+    m.meta.sample = std::move(sample);
+    m.layout = make_buckets(m.store, m.meta, tiling, bo, progress);
     m.groups = Groups::of_layout(m.layout);
     m.save_groups();
 }
@@ -355,7 +356,7 @@ TiledResult snap_tiled(const std::vector<Feature>& features, const SnapOptions& 
     for (std::size_t i = 0; i < features.size(); ++i) {
         spool.add(i, features[i].id, features[i].geometry, problems);
     }
-    const SpoolMeta meta = spool.finish();
+    SpoolMeta meta = spool.finish();
     ScheduleOptions schedule;
     schedule.threads = tiling.threads;
     TiledRun run(*store, options, tiling, schedule);

@@ -89,8 +89,9 @@ public:
              const ScheduleOptions& schedule);
     ~TiledRun();
     /// Plans and fills the buckets, unless the store holds a plan already (resume); the tile
-    /// budget comes from the memory pool when there is one.
-    void plan(const SpoolMeta& meta, const PassProgress& progress = {});
+    /// budget comes from the memory pool when there is one. Takes the sample's vertices out of
+    /// `meta` (the plan is their only reader; its extent and counts stay).
+    void plan(SpoolMeta& meta, const PassProgress& progress = {});
     /// Snaps every tile that has no result yet; `mine(group)` picks a share of them (then a tile
     /// that fails under OnError::skip is not retried merged with its neighbours).
     void snap(const TileProgress& progress = {}, const std::function<bool(std::size_t)>& mine = {});

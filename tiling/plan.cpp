@@ -158,8 +158,8 @@ TilePlan TilePlan::load(ByteReader& r)
 
 // Median split of the longer side of the vertices' box; the median value does not depend on
 // the order of the input, so neither does the plan.
-int TilePlan::build_balanced(std::vector<double>& xs, std::vector<double>& ys, std::size_t lo, std::size_t hi,
-                             const Region& r, std::size_t budget, int depth)
+int TilePlan::build_balanced(std::vector<double>& xs, std::vector<double>& ys, std::vector<double>& scratch,
+                             std::size_t lo, std::size_t hi, const Region& r, std::size_t budget, int depth)
 {
     if (hi - lo <= budget || depth > 40) return add_leaf(r);
     Box b;
@@ -168,9 +168,10 @@ int TilePlan::build_balanced(std::vector<double>& xs, std::vector<double>& ys, s
     std::vector<double>& key = axis == 0 ? xs : ys;
     std::vector<double>& other = axis == 0 ? ys : xs;
     const std::size_t mid = lo + (hi - lo) / 2;
-    std::vector<double> tmp(key.begin() + static_cast<std::ptrdiff_t>(lo), key.begin() + static_cast<std::ptrdiff_t>(hi));
-    std::nth_element(tmp.begin(), tmp.begin() + static_cast<std::ptrdiff_t>(mid - lo), tmp.end());
-    const double split = tmp[mid - lo];
+    // The median of a copy (one buffer for the whole tree), so that the pairs stay together.
+    scratch.assign(key.begin() + static_cast<std::ptrdiff_t>(lo), key.begin() + static_cast<std::ptrdiff_t>(hi));
+    std::nth_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(mid - lo), scratch.end());
+    const double split = scratch[mid - lo];
     if (!(split > (axis == 0 ? b.xmin : b.ymin))) return add_leaf(r); // all on one coordinate
     // Partition both arrays by key < split, keeping pairs together.
     std::size_t m = lo;
@@ -181,8 +182,8 @@ int TilePlan::build_balanced(std::vector<double>& xs, std::vector<double>& ys, s
     (axis == 0 ? right.xmin : right.ymin) = split;
     const int self = static_cast<int>(m_nodes.size());
     m_nodes.push_back(Node{axis, split, -1, -1, 0});
-    const int l = build_balanced(xs, ys, lo, m, left, budget, depth + 1);
-    const int rr = build_balanced(xs, ys, m, hi, right, budget, depth + 1);
+    const int l = build_balanced(xs, ys, scratch, lo, m, left, budget, depth + 1);
+    const int rr = build_balanced(xs, ys, scratch, m, hi, right, budget, depth + 1);
     m_nodes[static_cast<std::size_t>(self)].left = l;
     m_nodes[static_cast<std::size_t>(self)].right = rr;
     return self;
@@ -230,7 +231,9 @@ TilePlan make_plan(PlanInput input, const PlanOptions& options)
         plan.build_grid(0, static_cast<long>(cols), 0, static_cast<long>(rows), everything, s, ox, oy);
     } else {
         const std::size_t budget = std::max<std::size_t>(options.vertex_budget, 16) >> input.level;
-        plan.build_balanced(input.xs, input.ys, 0, input.xs.size(), everything, std::max<std::size_t>(budget, 1), 0);
+        std::vector<double> scratch;
+        scratch.reserve(input.xs.size());
+        plan.build_balanced(input.xs, input.ys, scratch, 0, input.xs.size(), everything, std::max<std::size_t>(budget, 1), 0);
     }
     plan.m_leaf_vertices.assign(plan.size(), 0);
     return plan;

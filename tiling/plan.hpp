@@ -10,6 +10,7 @@
 #include "tiling/binary_io.hpp"
 
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 namespace trisnap::tiling {
@@ -48,6 +49,14 @@ struct PlanInput {
     {
         std::vector<double>().swap(xs);
         std::vector<double>().swap(ys);
+    }
+    /// The sample with its vertices moved out of this one (which keeps its extent and counts):
+    /// the plan takes them without a copy (up to 256 MiB each).
+    PlanInput take_vertices()
+    {
+        PlanInput out{extent, vertices, std::move(xs), std::move(ys), level};
+        drop_sample();
+        return out;
     }
 };
 
@@ -90,8 +99,8 @@ private:
         int left = -1, right = -1;
         std::size_t leaf = 0;
     };
-    int build_balanced(std::vector<double>& xs, std::vector<double>& ys, std::size_t lo, std::size_t hi,
-                       const Region& r, std::size_t budget, int depth);
+    int build_balanced(std::vector<double>& xs, std::vector<double>& ys, std::vector<double>& scratch, std::size_t lo,
+                       std::size_t hi, const Region& r, std::size_t budget, int depth);
     int build_grid(long c0, long c1, long r0, long r1, const Region& r, double size, double ox, double oy);
     int add_leaf(const Region& r);
     void query(int node, const Box& b, std::vector<std::size_t>& out) const;

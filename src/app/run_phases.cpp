@@ -196,9 +196,7 @@ void RunPhases::spool()
     };
     phase("spool", [&] {
         m_progress.start("spool", static_cast<std::int64_t>(m_meta.spooled), "features");
-        guarded([&] { m_run->plan(m_meta, on_pass); });
-        // The sample's vertices served only the plan (up to limit/16 bytes).
-        m_meta.sample.drop_sample();
+        guarded([&] { m_run->plan(m_meta, on_pass); }); // takes the sample's vertices (up to limit/16 bytes)
         m_progress.finish();
     });
 }

@@ -119,18 +119,17 @@ void report(const CleanFeature& f, const Flags& flags, std::vector<Problem>& pro
 
 } // namespace
 
-CleanFeature clean_feature(const Feature& in, std::size_t index, double tolerance,
+CleanFeature clean_feature(std::int64_t id, const Geometry& g, std::size_t index, double tolerance,
                            std::vector<Problem>& problems)
 {
     CleanFeature out;
     out.index = index;
-    out.id = in.id;
-    out.polygonal = in.geometry.is_polygonal();
-    const Geometry& g = in.geometry;
+    out.id = id;
+    out.polygonal = g.is_polygonal();
     if (!g.is_polygonal() && !g.is_lineal()) {
         out.rejected = true;
         const bool empty = g.type == Geometry::Type::Empty;
-        problems.push_back(Problem{in.id, empty ? ProblemCode::empty_geometry : ProblemCode::unsupported_geometry,
+        problems.push_back(Problem{id, empty ? ProblemCode::empty_geometry : ProblemCode::unsupported_geometry,
                                    empty ? "empty geometry" : "geometry type is not snapped",
                                    std::nan(""), std::nan("")});
         return out;
@@ -146,7 +145,7 @@ CleanFeature clean_feature(const Feature& in, std::size_t index, double toleranc
     out.rejected = flags.non_finite || flags.huge;
     if (!out.rejected && out.rings.empty() && out.lines.empty()) {
         out.rejected = true;
-        problems.push_back(Problem{in.id, ProblemCode::empty_geometry,
+        problems.push_back(Problem{id, ProblemCode::empty_geometry,
                                    "nothing usable remains after cleaning", flags.where.x, flags.where.y});
     }
     return out;
@@ -158,7 +157,7 @@ std::vector<CleanFeature> clean_input(const std::vector<Feature>& features, doub
     std::vector<CleanFeature> out;
     out.reserve(features.size());
     for (std::size_t i = 0; i < features.size(); ++i)
-        out.push_back(clean_feature(features[i], i, tolerance, problems));
+        out.push_back(clean_feature(features[i].id, features[i].geometry, i, tolerance, problems));
     return out;
 }
 

@@ -28,9 +28,9 @@ struct CleanFeature {
     std::size_t holes = 0;                 ///< kept holes
 };
 
-/// Cleans one feature (`index`: its position in the caller's sequence); `problems` receives one
-/// entry per repair kind.
-CleanFeature clean_feature(const Feature& feature, std::size_t index, double tolerance,
+/// Cleans one feature, `id` with geometry `g` (`index`: its position in the caller's sequence);
+/// `problems` receives one entry per repair kind.
+CleanFeature clean_feature(std::int64_t id, const Geometry& g, std::size_t index, double tolerance,
                            std::vector<Problem>& problems);
 
 /// Cuts every ring and line of `f` to its first point; counts and flags stay. What the engine

@@ -129,7 +129,7 @@ TEST(OnErrorCancel, SkipNeverSwallowsACancelFromInsideATile)
     const double t = 0.01;
     const auto input = perturbed_grid_coverage(60, 60, 1.0, 0.02, 7, 3, 0.004);
     auto store = tiling::make_memory_store();
-    const stitch::SpoolMeta meta = spool_features(*store, input, t);
+    stitch::SpoolMeta meta = spool_features(*store, input, t);
     stitch::TilingOptions tiling;
     tiling.plan.vertex_budget = 10000000;
     tiling.threads = 1;

@@ -136,7 +136,7 @@ TEST(Records, SpooledFeaturesReadBackAsCleaned)
         stitch::FeatureSpool spool(*store, t, 1000, 64);
         for (std::size_t i = 0; i < input.size(); ++i) {
             std::vector<Problem> problems;
-            cleaned.push_back(detail::clean_feature(input[i], i, t, problems));
+            cleaned.push_back(detail::clean_feature(input[i].id, input[i].geometry, i, t, problems));
             ASSERT_FALSE(cleaned.back().rejected) << problem_lines(problems);
             spool.add(i, input[i].id, input[i].geometry, problems);
         }

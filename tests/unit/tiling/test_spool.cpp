@@ -227,7 +227,7 @@ TEST_P(StoreTest, SpoolMetaKeepsThePlansSampleOnlyOnDisk)
 {
     auto store = make();
     const auto input = perturbed_grid_coverage(12, 12, 1.0, 0.2, 3, 1, 0.004);
-    const stitch::SpoolMeta meta = spool_features(*store, input, 0.01, 100, 64);
+    stitch::SpoolMeta meta = spool_features(*store, input, 0.01, 100, 64);
     ASSERT_GT(meta.sample.level, 0) << "a sampled plan";
     ASSERT_FALSE(meta.sample.xs.empty());
     const std::string bytes = store->get(stitch::files::spool_meta);
@@ -251,6 +251,56 @@ TEST_P(StoreTest, SpoolMetaKeepsThePlansSampleOnlyOnDisk)
     }
 }
 
+// The plan takes the sample's vertices from the meta (one copy of up to 256 MiB, not three): the
+// meta keeps the extent and counts the tiles' cutting reads, and the plan is the median k-d tree
+// of the sample, whatever the order of its vertices.
+TEST_P(StoreTest, ThePlanTakesTheSampleAndDoesNotDependOnItsOrder)
+{
+    auto store = make();
+    const auto input = perturbed_grid_coverage(12, 12, 1.0, 0.2, 3, 1, 0.004);
+    stitch::SpoolMeta meta = spool_features(*store, input, 0.01, 400, 64);
+    const tiling::PlanInput sample = meta.sample;
+    ASSERT_GT(sample.xs.size(), 100u);
+    stitch::TilingOptions tiling;
+    tiling.plan.vertex_budget = 60;
+    stitch::TiledRun run(*store, options_at(0.01), tiling, stitch::ScheduleOptions{});
+    run.plan(meta);
+    EXPECT_TRUE(meta.sample.xs.empty() && meta.sample.ys.empty()) << "the sample's vertices were copied";
+    EXPECT_EQ(meta.sample.vertices, sample.vertices);
+    EXPECT_EQ(meta.sample.level, sample.level);
+    EXPECT_EQ(meta.sample.extent.xmin, sample.extent.xmin);
+    EXPECT_EQ(meta.sample.extent.ymax, sample.extent.ymax);
+    const tiling::TilePlan& planned = run.layout().plan;
+    ASSERT_GT(planned.size(), 4u);
+    tiling::PlanInput shuffled = sample;
+    std::vector<std::size_t> order(shuffled.xs.size());
+    for (std::size_t i = 0; i < order.size(); ++i) {
+        order[i] = i;
+    }
+    std::shuffle(order.begin(), order.end(), std::mt19937_64(5));
+    for (std::size_t i = 0; i < order.size(); ++i) {
+        shuffled.xs[i] = sample.xs[order[i]];
+        shuffled.ys[i] = sample.ys[order[i]];
+    }
+    for (const tiling::PlanInput& in : {sample, shuffled}) {
+        const tiling::TilePlan again = tiling::make_plan(in, tiling.plan);
+        ASSERT_EQ(again.size(), planned.size());
+        for (std::size_t k = 0; k < planned.size(); ++k) {
+            EXPECT_EQ(again.core(k), planned.core(k)) << "leaf " << k;
+        }
+    }
+    // Each leaf's core holds at most the budget (scaled to the sample) of the sample's vertices.
+    const std::size_t budget = tiling.plan.vertex_budget >> sample.level;
+    for (std::size_t k = 0; k < planned.size(); ++k) {
+        std::size_t inside = 0;
+        for (std::size_t i = 0; i < sample.xs.size(); ++i) {
+            inside += planned.core(k).contains(sample.xs[i], sample.ys[i]) ? 1 : 0;
+        }
+        EXPECT_LE(inside, std::max<std::size_t>(budget, 1)) << "leaf " << k;
+        EXPECT_GT(inside, 0u) << "leaf " << k;
+    }
+}
+
 // A plan of one leaf (as with --no-tiles) stores no bucket: its bucket is features.bin, each
 // feature cut to the reach as it is read, and holds exactly what a bucket file would: every
 // feature that is not rejected, in order, whole, with the counts the layout gives.
@@ -259,7 +309,7 @@ TEST_P(StoreTest, APlanOfOneLeafTakesItsBucketFromTheSpool)
     auto store = make();
     const double t = 0.01;
     const std::vector<Feature> input = coverage_line_and_rejected(8, 5);
-    const stitch::SpoolMeta meta = spool_features(*store, input, t);
+    stitch::SpoolMeta meta = spool_features(*store, input, t);
     stitch::TilingOptions tiling;
     tiling.plan.vertex_budget = 10000000;
     stitch::TiledRun run(*store, options_at(t), tiling, stitch::ScheduleOptions{});
@@ -458,7 +508,7 @@ TEST(TiledRun, SmallPoolSplitsTilesAndAResumedRunEqualsUntiled)
     std::size_t runs_first = 0;
     {
         auto store = tiling::make_directory_store(dir.string());
-        const stitch::SpoolMeta meta = spool_features(*store, input, t, 1000, 64); // a sampled plan, FIDs checked in runs
+        stitch::SpoolMeta meta = spool_features(*store, input, t, 1000, 64); // a sampled plan, FIDs checked in runs
         EXPECT_TRUE(meta.fids_unique);
         EXPECT_GT(meta.sample.level, 0);
         stitch::TiledRun run(*store, options, tiling, schedule);
@@ -483,7 +533,7 @@ TEST(TiledRun, SmallPoolSplitsTilesAndAResumedRunEqualsUntiled)
     auto store = tiling::make_directory_store(dir.string());
     const std::string meta_bytes = store->get(stitch::files::spool_meta);
     tiling::ByteReader r(meta_bytes, "meta");
-    const stitch::SpoolMeta meta = stitch::SpoolMeta::load(r);
+    stitch::SpoolMeta meta = stitch::SpoolMeta::load(r);
     stitch::TiledRun run(*store, options, tiling, schedule);
     run.plan(meta);
     const std::size_t live = run.groups().live(run.layout()).size();
@@ -523,7 +573,7 @@ TEST(TiledRun, APlanOfOneLeafInMemoryKeepsOnlyOutlinesOfItsSpool)
         SCOPED_TRACE(c.what);
         fs::remove_all(dir);
         auto store = c.on_disk ? tiling::make_directory_store(dir.string()) : tiling::make_memory_store();
-        const stitch::SpoolMeta meta = spool_features(*store, input, t);
+        stitch::SpoolMeta meta = spool_features(*store, input, t);
         stitch::TilingOptions tiling;
         tiling.plan.single = true;
         tiling.on_error = c.on_error;
@@ -547,7 +597,7 @@ TEST(TiledRun, StitchReportsTilesCheckedOfARealTotal)
     const double t = 0.01;
     const auto input = perturbed_grid_coverage(16, 16, 1.0, 0.2, 9, 1, 0.004);
     auto store = tiling::make_memory_store();
-    const stitch::SpoolMeta meta = spool_features(*store, input, t, 100000, 1 << 10);
+    stitch::SpoolMeta meta = spool_features(*store, input, t, 100000, 1 << 10);
     stitch::TilingOptions tiling;
     tiling.plan.tile_size = 4.0;
     tiling.threads = 2;
@@ -585,7 +635,7 @@ TEST(TiledRun, OneBigTileReportsProgressInsideAndStopsInside)
     schedule.threads = 1;
     {
         auto store = tiling::make_memory_store();
-        const stitch::SpoolMeta meta = spool_features(*store, input, t);
+        stitch::SpoolMeta meta = spool_features(*store, input, t);
         stitch::TiledRun run(*store, options, tiling, schedule);
         run.plan(meta);
         ASSERT_EQ(run.layout().plan.size(), 1u);
@@ -601,7 +651,7 @@ TEST(TiledRun, OneBigTileReportsProgressInsideAndStopsInside)
         EXPECT_TRUE(run.missing().empty());
     }
     auto store = tiling::make_memory_store();
-    const stitch::SpoolMeta meta = spool_features(*store, input, t);
+    stitch::SpoolMeta meta = spool_features(*store, input, t);
     int checks = 0;
     stitch::ScheduleOptions stopping = schedule;
     stopping.check_cancel = [&] {

@@ -224,7 +224,7 @@ TEST(TileResultRecords, FilesOfARealRunDecodeAndEncodeToTheSameBytes)
     }
     input.push_back(islands);
     auto store = tiling::make_memory_store();
-    const stitch::SpoolMeta meta = spool_features(*store, input, t, 100000, 1 << 10);
+    stitch::SpoolMeta meta = spool_features(*store, input, t, 100000, 1 << 10);
     stitch::TilingOptions tiling;
     tiling.plan.tile_size = 3.0;
     tiling.threads = 1;

@@ -14,16 +14,24 @@
 //   pipeline             one thread reads and clones, another writes; batches of 256 through a
 //                        queue of 4 batches; the writer frees the features;
 //   pipeline_back        the same, each batch handed back and freed by the thread that made it.
+// And, before and after the passes, what every handoff pays underneath: the round trip of one
+// cache line between two threads (spinning on an atomic, 200,000 trips), in nanoseconds. On the
+// team's VM it is either ~120-200 ns or ~450-600 ns, and the writer thread's gain follows it
+// (bench/results/REPORT.md, "The cores' distance").
 // Medians of --runs passes each (wall seconds, and the writer's CPU seconds where it is a thread
-// of its own). Warm page cache: one read before the passes.
+// of its own). Warm page cache: one read before the passes. `--round-trip` prints the round trip
+// alone (ns, "nan" with one CPU) and exits: bench/threads records it beside its runs.
 //   bench_handoff IN [--layer NAME] [--runs N] [--work DIR] [--json FILE]
+//   bench_handoff --round-trip
 #include <CLI/CLI.hpp>
 #include <gdal_priv.h>
 #include <nlohmann/json.hpp>
 #include <ogrsf_frmts.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <cstdio>
 #include <ctime>
@@ -38,6 +46,7 @@
 #include <thread>
 #include <tuple>
 #include <utility>
+#include <sched.h>
 #include <unistd.h>
 #include <vector>
 
@@ -55,10 +64,44 @@ double thread_cpu()
     return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
+nlohmann::json number_or_null(double v)
+{
+    return std::isnan(v) ? nlohmann::json() : nlohmann::json(v);
+}
+
 double median(std::vector<double> v)
 {
     std::sort(v.begin(), v.end());
     return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+/// Nanoseconds for one cache line to go to another thread and back: each side spins until the
+/// line holds its value, then writes the other's. NaN with one CPU to run on (the spinning
+/// threads would take turns by time slices).
+double cross_core_round_trip_ns()
+{
+    cpu_set_t cpus;
+    if (sched_getaffinity(0, sizeof cpus, &cpus) != 0 || CPU_COUNT(&cpus) < 2) {
+        return std::nan("");
+    }
+    constexpr int k_trips = 200000;
+    alignas(64) std::atomic<int> line{0};
+    std::thread other([&] {
+        for (int i = 0; i < k_trips; ++i) {
+            while (line.load(std::memory_order_acquire) != 1) {
+            }
+            line.store(0, std::memory_order_release);
+        }
+    });
+    const auto t0 = Clock::now();
+    for (int i = 0; i < k_trips; ++i) {
+        line.store(1, std::memory_order_release);
+        while (line.load(std::memory_order_acquire) != 0) {
+        }
+    }
+    const double seconds = since(t0);
+    other.join();
+    return seconds * 1e9 / k_trips;
 }
 
 /// A bounded queue of batches; `close()` ends it.
@@ -206,16 +249,27 @@ int main(int argc, char** argv)
     Input in;
     int runs = 3;
     std::string work = std::filesystem::temp_directory_path().string(), json;
-    app.add_option("IN", in.path)->required();
+    bool round_trip_only = false;
+    app.add_option("IN", in.path);
+    app.add_flag("--round-trip", round_trip_only, "print a cache line's round trip between two threads (ns) and exit");
     app.add_option("--layer", in.layer);
     app.add_option("--runs", runs, "passes per setup (medians)")->check(CLI::Range(1, 100));
     app.add_option("--work", work, "directory for the GeoPackages written");
     app.add_option("--json", json, "write the medians as JSON here");
     CLI11_PARSE(app, argc, argv);
+    if (round_trip_only) {
+        std::printf("%.0f\n", cross_core_round_trip_ns());
+        return 0;
+    }
+    if (in.path.empty()) {
+        std::fprintf(stderr, "bench_handoff: IN is required (or --round-trip)\n");
+        return 2;
+    }
     GDALAllRegister();
     const std::string out_a = (std::filesystem::path(work) / ("handoff-" + std::to_string(::getpid()) + "-a.gpkg")).string();
     const std::string out_b = (std::filesystem::path(work) / ("handoff-" + std::to_string(::getpid()) + "-b.gpkg")).string();
     std::vector<Pass> passes;
+    std::vector<double> round_trips{cross_core_round_trip_ns()};
     try {
         GDALDatasetUniquePtr keep;
         OGRFeatureDefn* defn = open_layer(in, keep)->GetLayerDefn();
@@ -354,6 +408,7 @@ int main(int argc, char** argv)
             OGRFeature::DestroyFeature(f);
         }
         passes = {read, write, beside, elsewhere, serial, pipeline, back};
+        round_trips.push_back(cross_core_round_trip_ns());
         std::printf("%zu features, medians of %d\n", loaded.size(), runs);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "bench_handoff: %s\n", e.what());
@@ -363,6 +418,8 @@ int main(int argc, char** argv)
     }
     std::filesystem::remove(out_a);
     std::filesystem::remove(out_b);
+    std::printf("a cache line's round trip between two threads: %.0f ns before the passes, %.0f ns after\n", round_trips.front(),
+                round_trips.back());
     std::printf("%-22s %10s %14s %16s\n", "setup", "wall s", "writer CPU s", "other thread s");
     for (const Pass& p : passes) {
         std::printf("%-22s %10.3f", p.name.c_str(), median(p.wall));
@@ -378,7 +435,10 @@ int main(int argc, char** argv)
         }
     }
     if (!json.empty()) {
-        nlohmann::json doc = {{"input", in.path}, {"runs", runs}, {"setups", nlohmann::json::array()}};
+        nlohmann::json doc = {{"input", in.path},
+                              {"runs", runs},
+                              {"round_trip_ns", {{"before", number_or_null(round_trips.front())}, {"after", number_or_null(round_trips.back())}}},
+                              {"setups", nlohmann::json::array()}};
         for (const Pass& p : passes) {
             doc["setups"].push_back({{"name", p.name},
                                      {"wall_s", median(p.wall)},

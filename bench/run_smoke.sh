@@ -144,9 +144,12 @@ timeout 120 "$handoff" "$root/data/delft_partition_sample.gpkg" --runs 1 \
   --json "$root/bench/results/handoff_smoke.json" || { echo "run_smoke: bench_handoff failed" >&2; exit 1; }
 python3 - "$root/bench/results/handoff_smoke.json" <<'PY'
 import json, sys
-setups = json.load(open(sys.argv[1]))["setups"]
+doc = json.load(open(sys.argv[1]))
+setups = doc["setups"]
 want = {"read", "write", "read_beside_write", "write_made_elsewhere", "serial", "pipeline", "pipeline_back"}
 bad = sorted(want - {s["name"] for s in setups}) + [s["name"] for s in setups if not s["wall_s"] > 0]
+trips = doc.get("round_trip_ns", {})  # null with one CPU to run on
+bad += [f"round trip {k}" for k in ("before", "after") if k not in trips or not (trips[k] is None or trips[k] > 0)]
 if bad:
     print(f"run_smoke: bench_handoff: missing or not timed: {bad}", file=sys.stderr)
     sys.exit(1)

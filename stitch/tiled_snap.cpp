@@ -223,7 +223,7 @@ void TiledRun::plan(SpoolMeta& meta, const PassProgress& progress)
         tiling.plan.vertex_budget = std::min<std::size_t>(tiling.plan.vertex_budget, std::max<std::uint64_t>(share, 16));
         bo.buffer_bytes = static_cast<std::size_t>(std::clamp<std::uint64_t>(m.schedule.memory_pool / 8, 1u << 20, 64u << 20));
     }
-    m.meta.sample = std::move(sample);
+    m.meta.sample = std::move(sample); // back for make_buckets, which takes them for the plan
     m.layout = make_buckets(m.store, m.meta, tiling, bo, progress);
     m.groups = Groups::of_layout(m.layout);
     m.save_groups();

@@ -15,7 +15,7 @@
 //                        queue of 4 batches; the writer frees the features;
 //   pipeline_back        the same, each batch handed back and freed by the thread that made it.
 // And, before and after the passes, what every handoff pays underneath: the round trip of one
-// cache line between two threads (spinning on an atomic, 200,000 trips), in nanoseconds. On the
+// cache line between two threads (spinning on an atomic, 200,000 trips or one second), in ns. On the
 // team's VM it is either ~120-200 ns or ~450-600 ns, and the writer thread's gain follows it
 // (bench/results/REPORT.md, "The cores' distance").
 // Medians of --runs passes each (wall seconds, and the writer's CPU seconds where it is a thread
@@ -76,8 +76,8 @@ double median(std::vector<double> v)
 }
 
 /// Nanoseconds for one cache line to go to another thread and back: each side spins until the
-/// line holds its value, then writes the other's. NaN with one CPU to run on (the spinning
-/// threads would take turns by time slices).
+/// line holds its value, then writes the other's; 200,000 trips or as many as one second allows
+/// (a busy machine, where the two take turns by time slices). NaN with one CPU to run on.
 double cross_core_round_trip_ns()
 {
     cpu_set_t cpus;
@@ -86,22 +86,41 @@ double cross_core_round_trip_ns()
     }
     constexpr int k_trips = 200000;
     alignas(64) std::atomic<int> line{0};
+    std::atomic<bool> stop{false};
     std::thread other([&] {
-        for (int i = 0; i < k_trips; ++i) {
-            while (line.load(std::memory_order_acquire) != 1) {
+        for (;;) {
+            int seen = 0;
+            while ((seen = line.load(std::memory_order_acquire)) == 0) {
+                if (stop.load(std::memory_order_relaxed)) {
+                    return;
+                }
+            }
+            if (seen == 2) {
+                return;
             }
             line.store(0, std::memory_order_release);
         }
     });
     const auto t0 = Clock::now();
-    for (int i = 0; i < k_trips; ++i) {
+    const auto deadline = t0 + std::chrono::seconds(1);
+    int trips = 0;
+    for (bool late = false; trips < k_trips && !late; ++trips) {
+        if (trips % 8 == 7 && Clock::now() > deadline) {
+            break;
+        }
         line.store(1, std::memory_order_release);
-        while (line.load(std::memory_order_acquire) != 0) {
+        for (unsigned spin = 1; line.load(std::memory_order_acquire) != 0; ++spin) {
+            if (spin % 4096 == 0 && Clock::now() > deadline) {
+                late = true;
+                break;
+            }
         }
     }
     const double seconds = since(t0);
+    line.store(2, std::memory_order_release); // the other side ends, whether it is waiting or not
+    stop.store(true, std::memory_order_relaxed);
     other.join();
-    return seconds * 1e9 / k_trips;
+    return seconds * 1e9 / trips;
 }
 
 /// A bounded queue of batches; `close()` ends it.

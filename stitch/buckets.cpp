@@ -488,10 +488,9 @@ TileLayout BucketMaker::run(tiling::PlanInput sample)
 
 } // namespace
 
-TileLayout make_buckets(tiling::WorkStore& store, SpoolMeta& meta, const TilingOptions& tiling,
-                        const BucketOptions& options, const PassProgress& progress)
+TileLayout make_buckets(tiling::WorkStore& store, const SpoolMeta& meta, tiling::PlanInput sample,
+                        const TilingOptions& tiling, const BucketOptions& options, const PassProgress& progress)
 {
-    tiling::PlanInput sample = meta.sample.take_vertices();
     return BucketMaker(store, meta, tiling, options, progress).run(std::move(sample));
 }
 

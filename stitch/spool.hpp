@@ -121,10 +121,10 @@ private:
 /// Called with (features done, features in total) during each pass.
 using PassProgress = std::function<void(std::uint64_t, std::uint64_t)>;
 
-/// Plans, computes reach boxes and fills the buckets; commits layout.bin. The plan takes the
-/// sample's vertices out of `meta` (their only reader; its extent and counts stay).
-TileLayout make_buckets(tiling::WorkStore& store, SpoolMeta& meta, const TilingOptions& tiling,
-                        const BucketOptions& options, const PassProgress& progress = {});
+/// Plans from `sample` (meta.sample's vertices, taken out of it: the plan is their only reader),
+/// computes reach boxes and fills the buckets; commits layout.bin.
+TileLayout make_buckets(tiling::WorkStore& store, const SpoolMeta& meta, tiling::PlanInput sample,
+                        const TilingOptions& tiling, const BucketOptions& options, const PassProgress& progress = {});
 
 /// A leaf's bucket, in input order: every spooled feature meeting its reach, cut to it.
 /// A plan of one leaf keeps no bucket file (whole_spool_bucket()): that bucket is made here from

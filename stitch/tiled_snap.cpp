@@ -201,7 +201,7 @@ void TiledRun::plan(SpoolMeta& meta, const PassProgress& progress)
 {
     Impl& m = *m_impl;
     tiling::PlanInput sample = meta.sample.take_vertices();
-    m.meta = meta; // without the sample's vertices: one copy of them, the plan's
+    m.meta = meta; // without the sample's vertices: their one copy goes to the plan
     if (m.store.exists(files::layout) && m.store.exists(files::groups)) {
         const std::string layout = m.store.get(files::layout);
         tiling::ByteReader lr(layout, "layout");
@@ -223,8 +223,7 @@ void TiledRun::plan(SpoolMeta& meta, const PassProgress& progress)
         tiling.plan.vertex_budget = std::min<std::size_t>(tiling.plan.vertex_budget, std::max<std::uint64_t>(share, 16));
         bo.buffer_bytes = static_cast<std::size_t>(std::clamp<std::uint64_t>(m.schedule.memory_pool / 8, 1u << 20, 64u << 20));
     }
-    m.meta.sample = std::move(sample); // back for make_buckets, which takes them for the plan
-    m.layout = make_buckets(m.store, m.meta, tiling, bo, progress);
+    m.layout = make_buckets(m.store, m.meta, std::move(sample), tiling, bo, progress);
     m.groups = Groups::of_layout(m.layout);
     m.save_groups();
 }

@@ -7,7 +7,7 @@ namespace trisnap::detail {
 Coord output_coord(const Mesh& mesh, std::uint32_t v, const ExtractOptions& o)
 {
     const VertexRecord& r = mesh.vertex(v);
-    return round_to_grid(Coord{r.x, r.y, o.has_z ? r.z : std::nan("")}, o.grid);
+    return round_to_grid(Coord{r.x, r.y, o.has_z ? mesh.z(v) : std::nan("")}, o.grid);
 }
 
 // A face's edge i runs from vertex ccw(i) to vertex cw(i) with the face on its left (CGAL's

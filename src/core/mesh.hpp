@@ -12,6 +12,7 @@
 #include "core/work_meter.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <span>
 #include <unordered_set>
 #include <utility>
@@ -30,12 +31,13 @@ struct Owner {
 };
 static_assert(sizeof(Owner) <= 16, "Owner is one per input edge: keep it small");
 
-/// 40 bytes: one per triangulation vertex, the engine's largest table after CGAL's own. The
-/// rare list of owners a vertex was split into lives beside it (Mesh::snapped_into). A removed
-/// vertex keeps its record (`alive` false), so an input point's record is that point for good.
+/// 32 bytes: one per triangulation vertex, the engine's largest table after CGAL's own. The
+/// rare list of owners a vertex was split into lives beside it (Mesh::snapped_into), and so do
+/// the z values (Mesh::z), which a layer without them does not hold at all. A removed vertex
+/// keeps its record (`alive` false), so an input point's record is that point for good.
 struct VertexRecord {
     cdt::Vertex_handle handle;
-    double x = 0, y = 0, z = 0;
+    double x = 0, y = 0;
     /// How many input points were merged into this one (0 for a crossing until the build ends):
     /// the weight of its centroid. At most the run's input points: 31 bits hold it (2^31 points
     /// in one engine run would take ~800 GB), and it converts to a double exactly.
@@ -43,7 +45,7 @@ struct VertexRecord {
     std::uint32_t alive : 1 = 1;
     std::uint32_t snapped = cdt::k_no_id;      ///< its list in Mesh::m_snapped, if it has one
 };
-static_assert(sizeof(VertexRecord) <= 40, "VertexRecord is one per vertex: keep it small");
+static_assert(sizeof(VertexRecord) <= 32, "VertexRecord is one per vertex: keep it small");
 
 /// How many times a polygon feature owns one edge.
 struct FeatureCount {
@@ -77,6 +79,8 @@ public:
     cdt::Triangulation& tri() { return m_tri; }
     const cdt::Triangulation& tri() const { return m_tri; }
     const VertexRecord& vertex(std::uint32_t id) const { return m_vertices[id]; }
+    /// The z of a vertex: NaN where it has none (every vertex, when no input point had one).
+    double z(std::uint32_t id) const { return m_z.empty() ? std::numeric_limits<double>::quiet_NaN() : m_z[id]; }
     /// Whether vertex id is an input point. Vertices never move (an edit removes vertices and
     /// inserts new ones), so an input point's vertex, while alive, is exactly where it was read.
     bool is_input_point(std::uint32_t id) const { return id < m_input_points; }
@@ -236,6 +240,7 @@ private:
                std::vector<CleanFeature>* outline);
     void register_created_vertices(std::size_t first_created);
     std::uint32_t add_record(cdt::Vertex_handle h, double z);
+    void set_z(std::uint32_t id, double z);
     double interpolated_z(cdt::Vertex_handle h);
     // mesh_insert.cpp
     cdt::Vertex_handle insert_point(const cdt::Point& p, cdt::Face_handle hint);
@@ -287,6 +292,9 @@ private:
 
     cdt::Triangulation m_tri;
     std::vector<VertexRecord> m_vertices;
+    /// The vertices' z, by id; empty while every z is NaN (a 2D layer: 16 MB fewer on Andorra
+    /// x43 untiled, and no interpolation for crossings). Once a z is set, as long as m_vertices.
+    std::vector<double> m_z;
     std::uint32_t m_input_points = 0; ///< ids below it are the input's distinct points
     std::vector<std::vector<std::uint32_t>> m_snapped; ///< VertexRecord::snapped indexes it
     std::vector<std::uint32_t> m_forward;

@@ -161,7 +161,7 @@ std::vector<std::uint32_t> Mesh::insert_points(const std::vector<CleanFeature>& 
         VertexRecord& r = m_vertices[id];
         r.x = pts[i].x;
         r.y = pts[i].y;
-        r.z = mean_z(pts.begin() + i, pts.begin() + j);
+        set_z(id, mean_z(pts.begin() + i, pts.begin() + j));
         i = j;
     }
     m_input_points = id;
@@ -169,7 +169,6 @@ std::vector<std::uint32_t> Mesh::insert_points(const std::vector<CleanFeature>& 
         VertexRecord& r = m_vertices[corner];
         r.x = p.x();
         r.y = p.y();
-        r.z = std::nan("");
     }
     std::vector<InputPoint>().swap(pts);
     std::vector<std::uint32_t> order(total);
@@ -263,7 +262,7 @@ void Mesh::register_created_vertices(std::size_t first_created)
     m_edge_owners.rename(rename);
     for (std::size_t id = first_created; id < n; ++id) {
         m_vertices[id].weight = 1;
-        m_vertices[id].z = interpolated_z(m_vertices[id].handle);
+        set_z(static_cast<std::uint32_t>(id), interpolated_z(m_vertices[id].handle));
     }
     m_intersections += created.size();
     m_created.clear();
@@ -277,10 +276,25 @@ std::uint32_t Mesh::add_record(cdt::Vertex_handle h, double z)
     r.handle = h;
     r.x = h->point().x();
     r.y = h->point().y();
-    r.z = z;
     m_vertices.push_back(std::move(r));
     m_forward.push_back(cdt::k_no_id);
+    if (!m_z.empty()) {
+        m_z.push_back(std::numeric_limits<double>::quiet_NaN());
+    }
+    set_z(id, z);
     return id;
+}
+
+void Mesh::set_z(std::uint32_t id, double z)
+{
+    if (m_z.empty()) {
+        if (std::isnan(z)) {
+            return;
+        }
+        m_z.reserve(m_vertices.capacity());
+        m_z.assign(m_vertices.size(), std::numeric_limits<double>::quiet_NaN());
+    }
+    m_z[id] = z;
 }
 
 // A vertex created on constraints takes the z of each input edge through it, interpolated by
@@ -288,6 +302,9 @@ std::uint32_t Mesh::add_record(cdt::Vertex_handle h, double z)
 // meet, the mean of their interpolations.
 double Mesh::interpolated_z(cdt::Vertex_handle h)
 {
+    if (m_z.empty()) {
+        return std::numeric_limits<double>::quiet_NaN(); // no input point has a z
+    }
     const double x = h->point().x();
     const double y = h->point().y();
     double sum = 0;
@@ -309,11 +326,14 @@ double Mesh::interpolated_z(cdt::Vertex_handle h)
             continue;
         }
         const OwnerRef& ref = refs[k];
-        const VertexRecord& ra = m_vertices[current(m_owners[ref.owner].from)];
-        const VertexRecord& rb = m_vertices[current(m_owners[ref.owner].to)];
+        const std::uint32_t a = current(m_owners[ref.owner].from);
+        const std::uint32_t b = current(m_owners[ref.owner].to);
+        const VertexRecord& ra = m_vertices[a];
+        const VertexRecord& rb = m_vertices[b];
         const double la = std::hypot(x - ra.x, y - ra.y);
         const double lb = std::hypot(x - rb.x, y - rb.y);
-        const double z = la + lb > 0 ? ra.z + (rb.z - ra.z) * la / (la + lb) : ra.z;
+        const double za = m_z[a];
+        const double z = la + lb > 0 ? za + (m_z[b] - za) * la / (la + lb) : za;
         if (!std::isnan(z)) {
             sum += z;
             ++n;

@@ -67,15 +67,15 @@ cdt::Vertex_handle Mesh::insert_target(double x, double y, const std::uint32_t* 
 void Mesh::merge_into(std::uint32_t target, std::span<const std::uint32_t> olds)
 {
     VertexRecord& t = m_vertices[target];
-    double zsum = std::isnan(t.z) ? 0.0 : t.z;
-    int zn = std::isnan(t.z) ? 0 : 1;
+    double zsum = std::isnan(z(target)) ? 0.0 : z(target);
+    int zn = std::isnan(z(target)) ? 0 : 1;
     for (std::uint32_t o : olds) {
         if (o == target) {
             continue;
         }
         VertexRecord& r = m_vertices[o];
-        if (!std::isnan(r.z)) {
-            zsum += r.z;
+        if (!std::isnan(z(o))) {
+            zsum += z(o);
             ++zn;
         }
         t.weight += r.weight;
@@ -93,7 +93,7 @@ void Mesh::merge_into(std::uint32_t target, std::span<const std::uint32_t> olds)
         r.handle = cdt::Vertex_handle();
         m_forward[o] = target;
     }
-    t.z = zn ? zsum / zn : std::nan("");
+    set_z(target, zn ? zsum / zn : std::nan(""));
 }
 
 std::uint32_t Mesh::replace(std::span<const std::uint32_t> olds, double x, double y, const std::uint32_t* split)
@@ -137,7 +137,7 @@ std::uint32_t Mesh::replace(std::span<const std::uint32_t> olds, double x, doubl
     run_jobs();
     for (std::uint32_t c : m_created) {
         m_vertices[c].weight = 1;
-        m_vertices[c].z = interpolated_z(m_vertices[c].handle);
+        set_z(c, interpolated_z(m_vertices[c].handle));
     }
     m_arena.clear();
     return tid;
@@ -151,9 +151,10 @@ void Mesh::take_edge_z(std::uint32_t v, std::uint32_t b, std::uint32_t c)
     const VertexRecord& t = m_vertices[v];
     const double lb = std::hypot(t.x - rb.x, t.y - rb.y);
     const double lc = std::hypot(t.x - rc.x, t.y - rc.y);
-    const double ze = lb + lc > 0 ? rb.z + (rc.z - rb.z) * lb / (lb + lc) : rb.z;
+    const double zb = z(b);
+    const double ze = lb + lc > 0 ? zb + (z(c) - zb) * lb / (lb + lc) : zb;
     if (!std::isnan(ze)) {
-        m_vertices[v].z = std::isnan(t.z) ? ze : 0.5 * (t.z + ze);
+        set_z(v, std::isnan(z(v)) ? ze : 0.5 * (z(v) + ze));
     }
 }
 

@@ -81,6 +81,8 @@ public:
     const VertexRecord& vertex(std::uint32_t id) const { return m_vertices[id]; }
     /// The z of a vertex: NaN where it has none (every vertex, when no input point had one).
     double z(std::uint32_t id) const { return m_z.empty() ? std::numeric_limits<double>::quiet_NaN() : m_z[id]; }
+    /// Whether the mesh holds z values (some vertex has had one).
+    bool holds_z() const { return !m_z.empty(); }
     /// Whether vertex id is an input point. Vertices never move (an edit removes vertices and
     /// inserts new ones), so an input point's vertex, while alive, is exactly where it was read.
     bool is_input_point(std::uint32_t id) const { return id < m_input_points; }

@@ -2,7 +2,8 @@
 // after the snapper and comes back if a search needs it, the output's rings carry no spare
 // capacity (closing a ring once doubled every ring's allocation: 34 MB of heap on Andorra x43),
 // the cleaned input is cut to outlines once the mesh's records hold its points, and the faces
-// of each feature are held in blocks of features, each one allocation.
+// of each feature are held in blocks of features, each one allocation, and a layer without z
+// holds no z values.
 // Peak memory itself is measured by bench_pipeline (peak_mb) and bench/estimates, not here.
 #include "snap_harness.hpp"
 
@@ -14,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace trisnap {
 namespace {
@@ -70,6 +72,52 @@ TEST(EngineMemory, SearchesAfterTheScratchIsReleasedFindTheSame)
     EXPECT_GT(out.merges + out.splits, 10u) << "the case must make the snapper edit";
     EXPECT_TRUE(out.converged);
     EXPECT_EQ(out.fixpoint_misses, 0u);
+}
+
+// A vertex's z lives beside its record, and a layer without z holds none: not after the build,
+// nor after the snapper's merges and crossings. One input point with a z makes the mesh hold
+// one per vertex from the build on, that point's own among them, and NaN for the others.
+TEST(EngineMemory, ALayerWithoutZHoldsNoZValues)
+{
+    constexpr double t = SearchedMesh::t;
+    std::vector<Feature> flat = near_degenerate_polygons(40, 10.0, t, 11);
+    {
+        std::vector<detail::CleanFeature> clean = SearchedMesh::cleaned(flat);
+        detail::Mesh mesh(clean, t);
+        EXPECT_FALSE(mesh.holds_z());
+        const detail::SnapperOutcome out = run_snapper_at(mesh, t);
+        EXPECT_GT(out.merges + out.splits, 10u) << "the case must make the snapper edit";
+        EXPECT_FALSE(mesh.holds_z());
+        for (std::uint32_t v = 0; v < mesh.vertex_slots(); ++v) {
+            EXPECT_TRUE(std::isnan(mesh.z(v))) << "vertex " << v;
+        }
+    }
+    Coord& first = flat.front().geometry.polygons.front().rings.front().front();
+    first.z = 7.5;
+    flat.front().geometry.polygons.front().rings.front().back().z = 7.5; // the closing point
+    std::vector<detail::CleanFeature> clean = SearchedMesh::cleaned(flat);
+    detail::Mesh mesh(clean, t);
+    ASSERT_TRUE(mesh.holds_z());
+    std::size_t with_z = 0;
+    for (std::uint32_t v = 0; v < mesh.vertex_slots(); ++v) {
+        if (!std::isnan(mesh.z(v))) {
+            ++with_z;
+            EXPECT_EQ(mesh.z(v), 7.5);
+            EXPECT_EQ(mesh.vertex(v).x, first.x);
+            EXPECT_EQ(mesh.vertex(v).y, first.y);
+        }
+    }
+    EXPECT_EQ(with_z, 1u);
+    // Merges take the mean of the z values they have (7.5) and an edge to a point without z
+    // gives none: every z stays 7.5 or NaN, and one live vertex carries the point's.
+    const detail::SnapperOutcome out = run_snapper_at(mesh, t);
+    EXPECT_GT(out.merges + out.splits, 10u);
+    std::size_t alive_with_z = 0;
+    for (std::uint32_t v = 0; v < mesh.vertex_slots(); ++v) {
+        EXPECT_TRUE(std::isnan(mesh.z(v)) || mesh.z(v) == 7.5) << "vertex " << v << ": " << mesh.z(v);
+        alive_with_z += mesh.vertex(v).alive && mesh.z(v) == 7.5 ? 1 : 0;
+    }
+    EXPECT_EQ(alive_with_z, 1u);
 }
 
 // A face keeps its stamp in 28 bits (a 56-byte face): the counter wraps at cdt::k_stamp_limit

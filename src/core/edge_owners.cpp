@@ -1,16 +1,16 @@
 #include "core/edge_owners.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <utility>
 
 namespace trisnap::detail {
 
 std::size_t EdgeOwners::slot_of(std::uint64_t k) const
 {
-    // Fibonacci hashing: the top bits of k * 2^64/phi index the table.
-    const std::size_t bits = static_cast<std::size_t>(std::countr_zero(m_keys.size()));
-    return static_cast<std::size_t>((k * 0x9E3779B97F4A7C15ull) >> (64 - bits));
+    // Fibonacci hashing, then the mixed key's fraction of the table (a multiply and a shift:
+    // any table size, no modulo).
+    const std::uint64_t mixed = k * 0x9E3779B97F4A7C15ull;
+    return static_cast<std::size_t>((static_cast<unsigned __int128>(mixed) * m_keys.size()) >> 64);
 }
 
 std::size_t EdgeOwners::find(std::uint64_t k) const
@@ -18,8 +18,7 @@ std::size_t EdgeOwners::find(std::uint64_t k) const
     if (m_keys.empty()) {
         return k_none;
     }
-    const std::size_t mask = m_keys.size() - 1;
-    for (std::size_t s = slot_of(k);; s = (s + 1) & mask) {
+    for (std::size_t s = slot_of(k);; s = next(s)) {
         if (m_keys[s] == k) {
             return s;
         }
@@ -29,20 +28,28 @@ std::size_t EdgeOwners::find(std::uint64_t k) const
     }
 }
 
-void EdgeOwners::grow()
+void EdgeOwners::reserve(std::size_t edges, std::size_t entries)
 {
-    std::vector<std::uint64_t> keys(m_keys.empty() ? 64 : 2 * m_keys.size(), k_empty);
-    std::vector<std::uint32_t> heads(keys.size(), k_none);
+    if (slots_for(edges) > m_keys.size()) {
+        resize(slots_for(edges));
+    }
+    m_nodes.reserve(entries);
+}
+
+// The table rebuilt with `slots` slots, its keys put in again in slot order.
+void EdgeOwners::resize(std::size_t slots)
+{
+    std::vector<std::uint64_t> keys(slots, k_empty);
+    std::vector<std::uint32_t> heads(slots, k_none);
     keys.swap(m_keys);
     heads.swap(m_heads);
-    const std::size_t mask = m_keys.size() - 1;
     for (std::size_t s = 0; s < keys.size(); ++s) {
         if (keys[s] == k_empty) {
             continue;
         }
         std::size_t t = slot_of(keys[s]);
         while (m_keys[t] != k_empty) {
-            t = (t + 1) & mask;
+            t = next(t);
         }
         m_keys[t] = keys[s];
         m_heads[t] = heads[s];
@@ -51,13 +58,12 @@ void EdgeOwners::grow()
 
 std::size_t EdgeOwners::find_or_insert(std::uint64_t k)
 {
-    if (2 * (m_count + 1) > m_keys.size()) {
-        grow();
+    if (10 * (m_count + 1) > 7 * m_keys.size()) {
+        resize(m_keys.empty() ? slots_for(0) : m_keys.size() + m_keys.size() / 2);
     }
-    const std::size_t mask = m_keys.size() - 1;
     std::size_t s = slot_of(k);
     while (m_keys[s] != k_empty && m_keys[s] != k) {
-        s = (s + 1) & mask;
+        s = next(s);
     }
     if (m_keys[s] == k_empty) {
         m_keys[s] = k;
@@ -70,9 +76,8 @@ std::size_t EdgeOwners::find_or_insert(std::uint64_t k)
 // Backward-shift deletion: later keys of the probe run move up, so no tombstones accumulate.
 void EdgeOwners::erase_slot(std::size_t s)
 {
-    const std::size_t mask = m_keys.size() - 1;
     std::size_t hole = s;
-    for (std::size_t t = (s + 1) & mask; m_keys[t] != k_empty; t = (t + 1) & mask) {
+    for (std::size_t t = next(s); m_keys[t] != k_empty; t = next(t)) {
         const std::size_t home = slot_of(m_keys[t]);
         const bool movable = hole <= t ? (home <= hole || home > t) : (home <= hole && home > t);
         if (movable) {
@@ -172,11 +177,10 @@ void EdgeOwners::rename(const std::vector<std::uint32_t>& rename)
         all.emplace_back(key(nu, nv), m_heads[s]);
     }
     std::fill(m_keys.begin(), m_keys.end(), k_empty);
-    const std::size_t mask = m_keys.size() - 1;
     for (const auto& [k, head] : all) {
         std::size_t s = slot_of(k);
         while (m_keys[s] != k_empty) {
-            s = (s + 1) & mask;
+            s = next(s);
         }
         m_keys[s] = k;
         m_heads[s] = head;

@@ -5,8 +5,13 @@
 // An edge is the pair of its vertex ids; its entries are the input edges running along it, each
 // with the direction it runs in. Two owners from one feature stay two entries (overlapping
 // rings: labelling counts their parity), and so does one owner twice (a vertex merge folded
-// two of its pieces onto one edge). Open addressing with linear probing on a power-of-two table,
-// entries in a pooled linked list per edge: about 32 bytes per edge, no allocation per edge.
+// two of its pieces onto one edge). Open addressing with linear probing, entries in a pooled
+// linked list per edge: no allocation per edge. The table is sized for the edges the caller
+// expects (reserve) and kept at most 70 % full, growing by half: 12 bytes a slot, ~17-26 a
+// distinct edge, and 8 a entry. (A power-of-two table at most half full, as before, held 1.63 M
+// edges of Andorra x43 in 4.19 M slots.) Nothing the engine computes depends on the table's
+// order: a tile's table and the whole layer's differ, and their outputs are the same.
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -32,6 +37,10 @@ public:
     void get(std::uint32_t from, std::uint32_t to, std::vector<OwnerRef>& out) const;
     bool contains(std::uint32_t a, std::uint32_t b) const { return find(key(a, b)) != k_none; }
     std::size_t edges() const { return m_count; }
+    /// Room for `edges` edges and `entries` entries in all without growing.
+    void reserve(std::size_t edges, std::size_t entries);
+    /// The table's slots (for the tests).
+    std::size_t slots() const { return m_keys.size(); }
 
     /// Calls f(u, v, OwnerRef) for every entry, u < v, oriented u -> v; order is the table's.
     template <class F>
@@ -93,11 +102,14 @@ private:
         return a < b ? (std::uint64_t{a} << 32) | b : (std::uint64_t{b} << 32) | a;
     }
     static OwnerRef unpack(std::uint32_t packed) { return OwnerRef{packed >> 1, (packed & 1u) != 0}; }
+    /// Slots for `edges` at most 70 % full.
+    static std::size_t slots_for(std::size_t edges) { return std::max<std::size_t>(64, edges + edges * 3 / 7 + 1); }
+    std::size_t next(std::size_t s) const { return s + 1 == m_keys.size() ? 0 : s + 1; }
     std::size_t slot_of(std::uint64_t k) const;
     std::size_t find(std::uint64_t k) const;
     std::size_t find_or_insert(std::uint64_t k);
     void erase_slot(std::size_t s);
-    void grow();
+    void resize(std::size_t slots);
     std::uint32_t new_node(std::uint32_t packed, std::uint32_t next);
     void append(std::uint32_t head, bool flip, std::vector<OwnerRef>& out) const;
 

@@ -208,6 +208,7 @@ void Mesh::insert_constraints(const std::vector<CleanFeature>& features, const s
     const std::size_t total_edges = m_input_ids.size(); // at most one per input point
     std::size_t edges_done = 0;
     m_owners.reserve(total_edges); // one per input edge, added here only
+    m_edge_owners.reserve(total_edges, total_edges); // crossings split a few more
     std::vector<std::uint32_t> order(features.size());
     std::iota(order.begin(), order.end(), 0u);
     std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {

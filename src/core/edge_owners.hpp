@@ -8,7 +8,7 @@
 // two of its pieces onto one edge). Open addressing with linear probing, entries in a pooled
 // linked list per edge: no allocation per edge. The table is sized for the edges the caller
 // expects (reserve) and kept at most 70 % full, growing by half: 12 bytes a slot, ~17-26 a
-// distinct edge, and 8 a entry. (A power-of-two table at most half full, as before, held 1.63 M
+// distinct edge, and 8 an entry. (A power-of-two table at most half full, as before, held 1.63 M
 // edges of Andorra x43 in 4.19 M slots.) Nothing the engine computes depends on the table's
 // order: a tile's table and the whole layer's differ, and their outputs are the same.
 #include <algorithm>

@@ -139,6 +139,31 @@ TEST(ContractChecker, ADoubledEdgeCountsTwiceInTheOddEvenStandIn) {
     EXPECT_EQ(check_contract(apart, {{1, band}, {3, band}}, 1.03125).n_overlaps_new, 1u);
 }
 
+// Found by fuzz_snap a third time on this family (2026-11-29): the stand-in kept the right
+// faces, among them a thin triangle (855,739 square units) between the edge from (193.875,
+// 15.47) to (-16368, -16168) and the doubled diagonal, which both inputs hold by the rule; but
+// GEOS's overlay union of the kept faces returned them without it (two almost equal crossing
+// points near its corner made two slivers of 3e-9 between them). The faces are a coverage, so
+// they are merged as one (GEOSCoverageUnion), and a union whose area is not the faces' is not
+// taken. The outputs are that triangle, as the engine wrote it for feature 1.
+TEST(ContractChecker, OddEvenStandInKeepsAThinFaceTheOverlayUnionLost) {
+    const std::vector<CheckedFeature> in = {
+        {1, "POLYGON ((193.875 15.46875, -16368 -16167.9375, -16167.9375 -16167.9375, -16167.9375 -16167.9375, 0 0, "
+            "-19083.28125 452.71875, 193.875 15.46875))"},
+        {3, "POLYGON ((16879.5 0, 12168.75 -17758.125, 193.875 15.46875, -16368 -16167.9375, -16167.9375 -16167.9375, "
+            "-16167.9375 -16167.9375, 0 0, -19083.28125 -19083.28125, -19083.28125 -24099.28125, "
+            "22393.59375 20516.71875, 20151.65625 86.625, 16879.5 0))"}};
+    const std::string thin =
+        "POLYGON ((-16368 -16167.9375,-16167.9375 -16167.9375,-7613.22138964578 -7613.22138964578,-16368 -16167.9375))";
+    const ContractReport r = check_contract(in, {{1, thin}, {3, thin}}, 1.03125);
+    EXPECT_EQ(r.n_overlaps_new, 0u) << r.summary();
+    // Feature 3's stand-in alone against the triangle as a readable input: they overlap.
+    EXPECT_EQ(check_contract({{1, thin}, in[1]}, {{1, thin}, {3, thin}}, 1.03125).n_overlaps_new, 0u);
+    const std::vector<CheckedFeature> apart = {{1, box(-100010, -100010, -100000, -100000)},
+                                               {3, box(100000, 100000, 100010, 100010)}};
+    EXPECT_EQ(check_contract(apart, {{1, thin}, {3, thin}}, 1.03125).n_overlaps_new, 1u);
+}
+
 TEST(ContractChecker, BowtieIsInvalid) {
     const ContractReport r = check_contract({{1, box(0, 0, 10, 10)}},
                                             {{1, "POLYGON ((0 0, 10 10, 10 0, 0 10, 0 0))"}}, t);

@@ -9,9 +9,10 @@
 // linked list per edge: no allocation per edge. The table is sized for the edges the caller
 // expects (reserve) and kept at most 70 % full, growing by half: 12 bytes a slot, 17-26 a
 // distinct edge while it grows, and 8 an entry. The build reserves for its input edges, an upper
-// bound: where neighbours share their edges (a coverage) each shared edge is counted twice, up to
-// ~35 bytes a distinct edge. (A power-of-two table at most half full, as before, took 24-48, and
-// held Andorra x43's 1.63 M edges in 4.19 M slots.) Nothing the engine computes depends on the
+// bound: ~17 bytes of slots per input edge whatever they share, so per distinct edge 17 times
+// the rings along it (34 in a coverage, more where rings are stacked on each other). A
+// power-of-two table at most half full, as before, took 24-48 per distinct edge, and held
+// Andorra x43's 1.63 M edges in 4.19 M slots. Nothing the engine computes depends on the
 // table's order: a tile's table and the whole layer's differ, and their outputs are the same.
 #include <algorithm>
 #include <cstdint>

@@ -67,15 +67,16 @@ cdt::Vertex_handle Mesh::insert_target(double x, double y, const std::uint32_t* 
 void Mesh::merge_into(std::uint32_t target, std::span<const std::uint32_t> olds)
 {
     VertexRecord& t = m_vertices[target];
-    double zsum = std::isnan(z(target)) ? 0.0 : z(target);
-    int zn = std::isnan(z(target)) ? 0 : 1;
+    const double zt = z(target);
+    double zsum = std::isnan(zt) ? 0.0 : zt;
+    int zn = std::isnan(zt) ? 0 : 1;
     for (std::uint32_t o : olds) {
         if (o == target) {
             continue;
         }
         VertexRecord& r = m_vertices[o];
-        if (!std::isnan(z(o))) {
-            zsum += z(o);
+        if (const double zo = z(o); !std::isnan(zo)) {
+            zsum += zo;
             ++zn;
         }
         t.weight += r.weight;
@@ -154,7 +155,8 @@ void Mesh::take_edge_z(std::uint32_t v, std::uint32_t b, std::uint32_t c)
     const double zb = z(b);
     const double ze = lb + lc > 0 ? zb + (z(c) - zb) * lb / (lb + lc) : zb;
     if (!std::isnan(ze)) {
-        set_z(v, std::isnan(z(v)) ? ze : 0.5 * (z(v) + ze));
+        const double zv = z(v);
+        set_z(v, std::isnan(zv) ? ze : 0.5 * (zv + ze));
     }
 }
 

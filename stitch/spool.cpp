@@ -142,6 +142,12 @@ struct FeatureSpool::Impl {
         }
     }
 
+    void write_record(std::string_view bytes)
+    {
+        const std::uint64_t offset = writer.write(bytes);
+        offsets->write(std::string_view(reinterpret_cast<const char*>(&offset), sizeof offset));
+    }
+
     // Whether the current layer's FIDs were unique, and the check's state reset for the next.
     bool end_layer()
     {
@@ -176,36 +182,100 @@ FeatureSpool::FeatureSpool(tiling::WorkStore& store, double tolerance, std::size
 
 FeatureSpool::~FeatureSpool() = default;
 
-void FeatureSpool::add(std::uint64_t seq, std::int64_t fid, const Geometry& geometry, std::vector<Problem>& problems)
+namespace {
+
+void count_spooled(SpoolMeta& meta, std::uint64_t vertices, std::int64_t fid)
 {
-    Impl& m = *m_impl;
-    ++m.meta.records;
-    m.note_fid(fid);
-    const detail::CleanFeature cf = detail::clean_feature(fid, geometry, seq, m.tolerance, problems);
+    meta.vertices += vertices;
+    if (vertices > meta.largest_vertices) { // the first of the largest, in input order
+        meta.largest_vertices = vertices;
+        meta.largest_fid = fid;
+    }
+    ++meta.spooled;
+}
+
+// One spooled feature's share of the read, the same for the spool and its parts: cleaned, its
+// vertices sampled and counted in `meta`, its record encoded into `record`.
+void spool_feature(std::uint64_t seq, std::int64_t fid, const Geometry& geometry, double tolerance,
+                   std::vector<Problem>& problems, tiling::VertexSample& sample, SpoolMeta& meta, std::string& record)
+{
+    const detail::CleanFeature cf = detail::clean_feature(fid, geometry, seq, tolerance, problems);
     std::uint64_t n = 0;
     for (const detail::CleanRing& r : cf.rings) {
         for (const Coord& c : r.points) {
-            m.sample.add(c.x, c.y);
+            sample.add(c.x, c.y);
         }
         n += r.points.size();
     }
     for (const auto& line : cf.lines) {
         for (const Coord& c : line) {
-            m.sample.add(c.x, c.y);
+            sample.add(c.x, c.y);
         }
         n += line.size();
     }
-    m.meta.vertices += n;
-    if (n > m.meta.largest_vertices) {
-        m.meta.largest_vertices = n;
-        m.meta.largest_fid = fid;
-    }
-    m.record.clear();
-    tiling::ByteWriter w(m.record);
+    count_spooled(meta, n, fid);
+    record.clear();
+    tiling::ByteWriter w(record);
     tiling::put_clean_feature(w, cf, geometry.has_z);
-    const std::uint64_t offset = m.writer.write(m.record);
-    m.offsets->write(std::string_view(reinterpret_cast<const char*>(&offset), sizeof offset));
-    ++m.meta.spooled;
+}
+
+} // namespace
+
+void FeatureSpool::add(std::uint64_t seq, std::int64_t fid, const Geometry& geometry, std::vector<Problem>& problems)
+{
+    Impl& m = *m_impl;
+    ++m.meta.records;
+    m.note_fid(fid);
+    spool_feature(seq, fid, geometry, m.tolerance, problems, m.sample, m.meta, m.record);
+    m.write_record(m.record);
+}
+
+void FeatureSpool::append(SpoolPart&& part)
+{
+    Impl& m = *m_impl;
+    for (const std::int64_t fid : part.m_fids) {
+        m.note_fid(fid);
+    }
+    std::size_t block = 0;
+    std::size_t at = 0;
+    for (const std::size_t size : part.m_sizes) {
+        if (at + size > part.m_blocks[block].size()) {
+            std::string().swap(part.m_blocks[block++]); // copied: freed at once, not with the part
+            at = 0;
+        }
+        m.write_record(std::string_view(part.m_blocks[block]).substr(at, size));
+        at += size;
+    }
+    m.meta.records += part.m_meta.records;
+    m.meta.vertices += part.m_meta.vertices;
+    if (part.m_meta.largest_vertices > m.meta.largest_vertices) {
+        m.meta.largest_vertices = part.m_meta.largest_vertices;
+        m.meta.largest_fid = part.m_meta.largest_fid;
+    }
+    m.meta.spooled += part.m_meta.spooled;
+    m.sample.append(std::move(part.m_sample));
+    part = SpoolPart(part.m_tolerance, 16);
+}
+
+SpoolPart::SpoolPart(double tolerance, std::size_t sample_cap) : m_tolerance(tolerance), m_sample(sample_cap) {}
+
+void SpoolPart::add(std::uint64_t seq, std::int64_t fid, const Geometry& geometry, std::vector<Problem>& problems)
+{
+    ++m_meta.records;
+    m_fids.push_back(fid);
+    spool_feature(seq, fid, geometry, m_tolerance, problems, m_sample, m_meta, m_record);
+    constexpr std::size_t k_block = std::size_t{4} << 20;
+    if (m_blocks.empty() || m_blocks.back().size() + m_record.size() > m_blocks.back().capacity()) {
+        m_blocks.emplace_back().reserve(std::max(k_block, m_record.size()));
+    }
+    m_blocks.back() += m_record;
+    m_sizes.push_back(m_record.size());
+}
+
+void SpoolPart::skip(std::int64_t fid)
+{
+    ++m_meta.records;
+    m_fids.push_back(fid);
 }
 
 void FeatureSpool::skip(std::int64_t fid)

@@ -38,6 +38,31 @@ struct SpoolMeta {
     static SpoolMeta load(tiling::ByteReader& r);
 };
 
+/// A stretch of the input read on a thread of its own (app/read_phase.cpp), spooled in memory:
+/// the same work per feature as FeatureSpool::add()/skip(), nothing written to the store, to be
+/// appended with FeatureSpool::append() after every feature before it. Holds its features'
+/// records (their cleaned vertices) until then.
+class SpoolPart {
+public:
+    SpoolPart(double tolerance, std::size_t sample_cap);
+    /// FeatureSpool::add(); `seq` is the feature's position in the whole input.
+    void add(std::uint64_t seq, std::int64_t fid, const Geometry& geometry, std::vector<Problem>& problems);
+    /// FeatureSpool::skip().
+    void skip(std::int64_t fid);
+
+private:
+    friend class FeatureSpool;
+    double m_tolerance;
+    tiling::VertexSample m_sample;
+    SpoolMeta m_meta;                  ///< records, spooled, vertices, the largest feature
+    std::vector<std::int64_t> m_fids;  ///< every feature's, spooled or not, in order
+    /// The spooled features' records, one after the other in blocks of about 4 MiB (a block
+    /// never grows by copying what it holds; a record never spans two).
+    std::vector<std::string> m_blocks;
+    std::vector<std::size_t> m_sizes;  ///< the records' sizes
+    std::string m_record;
+};
+
 class FeatureSpool {
 public:
     /// `sample_cap`: vertices kept for the plan; `fid_buffer`: FIDs sorted in memory at once.
@@ -48,6 +73,9 @@ public:
     void add(std::uint64_t seq, std::int64_t fid, const Geometry& geometry, std::vector<Problem>& problems);
     /// A feature read but not snapped (passed through or rejected): its FID still counts.
     void skip(std::int64_t fid);
+    /// The features of `part`, as if each had been added or skipped here now, in its order:
+    /// the same files, meta and sample as that sequence of calls gives.
+    void append(SpoolPart&& part);
     /// Several layers in one run: call after each layer's features. True when that layer's FIDs
     /// were unique within it (its output can keep them); the engine then takes input positions
     /// as ids whatever the answer, since FIDs may repeat across layers (meta.fids_unique false).

@@ -1,5 +1,6 @@
 #include "tiling/sample.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 
@@ -40,16 +41,37 @@ void VertexSample::add(double x, double y)
     m_ys.push_back(y);
     while (m_xs.size() > m_cap && m_level < 63) {
         ++m_level;
-        std::size_t k = 0;
-        for (std::size_t i = 0; i < m_xs.size(); ++i) {
-            if (kept(m_xs[i], m_ys[i])) {
-                m_xs[k] = m_xs[i];
-                m_ys[k] = m_ys[i];
-                ++k;
-            }
+        keep_kept(m_xs, m_ys);
+    }
+}
+
+void VertexSample::keep_kept(std::vector<double>& xs, std::vector<double>& ys) const
+{
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < xs.size(); ++i) {
+        if (kept(xs[i], ys[i])) {
+            xs[k] = xs[i];
+            ys[k] = ys[i];
+            ++k;
         }
-        m_xs.resize(k);
-        m_ys.resize(k);
+    }
+    xs.resize(k);
+    ys.resize(k);
+}
+
+void VertexSample::append(VertexSample&& later)
+{
+    m_extent.add(later.m_extent);
+    m_vertices += later.m_vertices;
+    m_level = std::max(m_level, later.m_level);
+    keep_kept(m_xs, m_ys);
+    keep_kept(later.m_xs, later.m_ys);
+    m_xs.insert(m_xs.end(), later.m_xs.begin(), later.m_xs.end());
+    m_ys.insert(m_ys.end(), later.m_ys.begin(), later.m_ys.end());
+    later = VertexSample(later.m_cap);
+    while (m_xs.size() > m_cap && m_level < 63) {
+        ++m_level;
+        keep_kept(m_xs, m_ys);
     }
 }
 

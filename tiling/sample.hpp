@@ -18,11 +18,17 @@ public:
     /// `cap`: most vertices kept at once (16 bytes each).
     explicit VertexSample(std::size_t cap) : m_cap(cap < 16 ? 16 : cap) {}
     void add(double x, double y);
+    /// Takes in `later`'s vertices (same cap) as if they had been added here after these: the
+    /// same level, extent, count and kept vertices in the same order (the level is the least
+    /// at which everything added fits the cap, whoever added it).
+    void append(VertexSample&& later);
     /// The extent and count of everything added, and the sample.
     PlanInput take();
 
 private:
     bool kept(double x, double y) const;
+    /// Drops from (xs, ys) the vertices the current level does not keep.
+    void keep_kept(std::vector<double>& xs, std::vector<double>& ys) const;
 
     std::size_t m_cap;
     int m_level = 0;

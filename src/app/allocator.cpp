@@ -94,20 +94,68 @@ void advise_huge_heap(std::uint64_t bytes)
         std::free(p);
     }
 }
+
+/// Whether some mapping of /proc/self/maps starts at `at` and is not the main heap.
+bool a_mapping_starts_at(std::uintptr_t at)
+{
+    std::ifstream maps("/proc/self/maps");
+    std::string line;
+    while (std::getline(maps, line)) {
+        const std::size_t dash = line.find('-');
+        if (dash == std::string::npos) {
+            continue;
+        }
+        if (static_cast<std::uintptr_t>(std::stoull(line.substr(0, dash), nullptr, 16)) == at) {
+            return line.find("[heap]") == std::string::npos;
+        }
+    }
+    return false;
+}
+
+bool huge_pages_wanted()
+{
+    if (const char* off = std::getenv("TRISNAP_HUGE_PAGES"); off != nullptr && std::strcmp(off, "0") == 0) {
+        return false;
+    }
+    return first_line("/sys/kernel/mm/transparent_hugepage/enabled").find("[madvise]") != std::string::npos &&
+           first_line("/proc/sys/vm/overcommit_memory") != "2";
+}
 #endif
 
 } // namespace
+
+void advise_thread_heap()
+{
+#if defined(__GLIBC__) && !defined(TRISNAP_SANITIZED_MALLOC)
+    if (!huge_pages_wanted()) {
+        return;
+    }
+    // glibc's heaps for threads other than the first are mappings of 64 MiB (twice the largest
+    // mmap threshold), aligned to their size, reserved at once and made writable as they grow.
+    constexpr std::uintptr_t k_thread_heap = std::uintptr_t{64} << 20;
+    void* probe = std::malloc(64);
+    if (probe == nullptr) {
+        return;
+    }
+    const std::uintptr_t base = reinterpret_cast<std::uintptr_t>(probe) & ~(k_thread_heap - 1);
+    std::free(probe);
+    if (!a_mapping_starts_at(base)) {
+        return;
+    }
+    madvise(reinterpret_cast<void*>(base), k_thread_heap, MADV_HUGEPAGE); // refused: it stays as it was
+    // The heap made writable up to ~30 MiB at once (a block below the mmap threshold, freed into
+    // the heap's top, which is not trimmed): glibc otherwise widens it by mprotect() as it grows,
+    // each call holding the process's memory map lock against the other thread's page faults.
+    std::free(std::malloc(std::size_t{30} << 20));
+#endif
+}
 
 void keep_freed_memory()
 {
 #if defined(__GLIBC__) && !defined(TRISNAP_SANITIZED_MALLOC)
     mallopt(M_MMAP_THRESHOLD, 32 * 1024 * 1024);
     mallopt(M_TRIM_THRESHOLD, INT_MAX);
-    if (const char* off = std::getenv("TRISNAP_HUGE_PAGES"); off != nullptr && std::strcmp(off, "0") == 0) {
-        return;
-    }
-    if (first_line("/sys/kernel/mm/transparent_hugepage/enabled").find("[madvise]") == std::string::npos ||
-        first_line("/proc/sys/vm/overcommit_memory") == "2") {
+    if (!huge_pages_wanted()) {
         return;
     }
     const std::uint64_t bytes = std::min({k_most, physical_memory() / 8, quarter_of_limit(RLIMIT_DATA), quarter_of_limit(RLIMIT_AS)});

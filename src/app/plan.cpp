@@ -191,6 +191,7 @@ void open_layer(const SnapArgs& args, Plan& plan)
     plan.input_path = args.input;
     check_key_values(args.open_options, "--oo");
     plan.dataset = open_input(args.input, args.open_options);
+    plan.open_options = args.open_options;
     plan.input_driver = plan.dataset->GetDriverName();
     if (args.layers.size() > 1) {
         plan.layers = several_layers(args, *plan.dataset);

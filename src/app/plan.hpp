@@ -26,6 +26,7 @@ struct Plan {
     std::vector<OGRLayer*> layers;
     std::vector<std::int64_t> feature_counts; ///< per layer, after filters; -1 when unknown
     std::string input_path;
+    std::vector<std::string> open_options; ///< --oo, as the input was opened with
     std::string input_driver;
     std::string crs;
     std::int64_t feature_count = -1; ///< after filters; -1 when unknown without a full read

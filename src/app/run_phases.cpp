@@ -119,7 +119,8 @@ void RunPhases::read(Plan& plan)
         }
         check_disk_before_read(m_work, plan);
         const std::uint64_t limit = m_budget.memory_limit;
-        const ReadBuffers buffers{sample_vertices(limit), fid_buffer(limit), problem_buffer()};
+        const ReadBuffers buffers{sample_vertices(limit), fid_buffer(limit), problem_buffer(),
+                                  limit == 0 && !m_work.on_disk()};
         summary = read_layer(plan, m_work.store(), buffers, m_progress, m_interrupt);
     });
     m_result.seconds_read = m_result.phases.back().seconds;

@@ -1,6 +1,7 @@
 // The work directory's records round-trip bit for bit: geometries and tile features, cleaned
 // features (features.bin: x, y and z, NaN payloads and negative zeros, several rings, parts and
 // lines), read back in order and by rank. (A tile's result files: test_tile_result.cpp.)
+#include "generators.hpp"
 #include "record_checks.hpp"
 #include "snap_harness.hpp"
 
@@ -161,6 +162,90 @@ TEST(Records, SpooledFeaturesReadBackAsCleaned)
         compared += same_clean_feature(cleaned[i], at, has_z);
     }
     EXPECT_EQ(compared, 2u * (4 + 4 + 3 + 2 + 3));
+}
+
+// The read phase's second reader spools its part of the layer in memory (stitch::SpoolPart) and
+// the first appends it: every work file and the meta must be those of the sequential spool,
+// whatever the cut, with features the cleaning repairs or rejects and features skipped on
+// either side, and with the FID check's runs spilled (a buffer of 64 FIDs).
+TEST(SpoolPart, AppendedPartGivesTheSequentialSpool)
+{
+    const double t = 1e-3;
+    std::vector<Feature> input = perturbed_grid_coverage(12, 12, 1.0, 0.2, 3, 1, 0.004);
+    Feature repeated; // repaired by the cleaning (problem 104), spooled
+    repeated.id = 5000;
+    repeated.geometry.type = Geometry::Type::Polygon;
+    repeated.geometry.polygons = {Polygon{{{{0, 0}, {4, 0}, {4, 0}, {4, 4}, {0, 4}, {0, 0}}}}};
+    input.insert(input.begin() + 40, repeated);
+    Feature bad; // rejected by the cleaning (a NaN)
+    bad.id = 5001;
+    bad.geometry.type = Geometry::Type::Polygon;
+    bad.geometry.polygons = {Polygon{{{{0, 0}, {std::nan(""), 0}, {1, 1}, {0, 0}}}}};
+    input.insert(input.begin() + 100, bad);
+    const auto skipped = [](std::size_t i) { return i % 17 == 5; }; // passed through: FID only
+    const auto files = [](tiling::WorkStore& store) {
+        std::vector<std::string> out;
+        for (const std::string& name : {stitch::files::features, stitch::files::offsets, stitch::files::spool_meta}) {
+            out.push_back(store.get(name));
+        }
+        return out;
+    };
+    auto whole = tiling::make_memory_store();
+    std::vector<std::vector<Problem>> expected_problems(input.size());
+    tiling::PlanInput expected_sample;
+    {
+        stitch::FeatureSpool spool(*whole, t, 200, 64);
+        for (std::size_t i = 0; i < input.size(); ++i) {
+            if (skipped(i)) {
+                spool.skip(input[i].id);
+            } else {
+                spool.add(i, input[i].id, input[i].geometry, expected_problems[i]);
+            }
+        }
+        stitch::SpoolMeta meta = spool.finish();
+        EXPECT_TRUE(meta.fids_unique);
+        EXPECT_GT(meta.sample.level, 0); // the cap of 200 vertices was passed
+        expected_sample = std::move(meta.sample);
+    }
+    EXPECT_FALSE(expected_problems[40].empty());
+    EXPECT_FALSE(expected_problems[100].empty());
+    const std::vector<std::string> expected = files(*whole);
+    for (const std::size_t cut : {std::size_t{0}, std::size_t{41}, std::size_t{100}, input.size() / 2, input.size()}) {
+        SCOPED_TRACE("cut at " + std::to_string(cut));
+        auto store = tiling::make_memory_store();
+        stitch::FeatureSpool spool(*store, t, 200, 64);
+        stitch::SpoolPart part(t, 200);
+        std::vector<std::vector<Problem>> problems(input.size());
+        for (std::size_t i = 0; i < input.size(); ++i) {
+            if (skipped(i)) {
+                i < cut ? spool.skip(input[i].id) : part.skip(input[i].id);
+            } else if (i < cut) {
+                spool.add(i, input[i].id, input[i].geometry, problems[i]);
+            } else {
+                part.add(i, input[i].id, input[i].geometry, problems[i]);
+            }
+        }
+        spool.append(std::move(part));
+        const stitch::SpoolMeta meta = spool.finish();
+        EXPECT_TRUE(meta.fids_unique);
+        EXPECT_EQ(files(*store), expected);
+        EXPECT_EQ(meta.sample.level, expected_sample.level);
+        EXPECT_EQ(meta.sample.xs, expected_sample.xs);
+        EXPECT_EQ(meta.sample.ys, expected_sample.ys);
+        for (std::size_t i = 0; i < input.size(); ++i) {
+            EXPECT_EQ(problem_lines(problems[i]), problem_lines(expected_problems[i])) << "feature " << i;
+        }
+    }
+    // A FID repeated across the cut is found as if read in one go.
+    auto store = tiling::make_memory_store();
+    stitch::FeatureSpool spool(*store, t, 200, 64);
+    stitch::SpoolPart part(t, 200);
+    for (std::size_t i = 0; i < 70; ++i) {
+        spool.skip(static_cast<std::int64_t>(i));
+    }
+    part.skip(3);
+    spool.append(std::move(part));
+    EXPECT_FALSE(spool.finish().fids_unique);
 }
 
 } // namespace

@@ -460,6 +460,49 @@ TEST(VertexSample, DoesNotDependOnInputOrderAndKeepsEverythingUnderItsCap)
     EXPECT_EQ(a, b);
 }
 
+// The read phase's second reader (app/read_phase.cpp) samples its part of the layer apart:
+// appended, the sample must be the one the whole sequence gives, in the same order, wherever the
+// layer is cut and whatever levels each part reached on its own.
+TEST(VertexSample, AppendedPartsGiveTheSequentialSample)
+{
+    const auto features = perturbed_grid_coverage(30, 30, 1.0, 0.2, 7, 2);
+    std::vector<Coord> pts;
+    for (const Feature& f : features) {
+        for (const Polygon& p : f.geometry.polygons) {
+            for (const Path& r : p.rings) {
+                pts.insert(pts.end(), r.begin(), r.end());
+            }
+        }
+    }
+    pts.push_back({std::nan(""), 1.0}); // not counted by either
+    for (const std::size_t cap : {pts.size(), pts.size() / 5, pts.size() / 40, std::size_t{16}}) {
+        tiling::VertexSample whole(cap);
+        for (const Coord& c : pts) {
+            whole.add(c.x, c.y);
+        }
+        const tiling::PlanInput expected = whole.take();
+        for (const std::size_t cut : {std::size_t{0}, std::size_t{1}, pts.size() / 7, pts.size() / 2, pts.size() - 3, pts.size()}) {
+            tiling::VertexSample first(cap);
+            tiling::VertexSample second(cap);
+            for (std::size_t i = 0; i < pts.size(); ++i) {
+                (i < cut ? first : second).add(pts[i].x, pts[i].y);
+            }
+            first.append(std::move(second));
+            const tiling::PlanInput got = first.take();
+            SCOPED_TRACE("cap " + std::to_string(cap) + ", cut at " + std::to_string(cut));
+            EXPECT_EQ(got.level, expected.level);
+            EXPECT_EQ(got.vertices, expected.vertices);
+            EXPECT_EQ(got.xs, expected.xs);
+            EXPECT_EQ(got.ys, expected.ys);
+            EXPECT_EQ(got.extent.xmin, expected.extent.xmin);
+            EXPECT_EQ(got.extent.ymax, expected.extent.ymax);
+        }
+        if (cap == pts.size() / 40) {
+            EXPECT_GE(expected.level, 4); // the parts reached other levels than the whole
+        }
+    }
+}
+
 TEST(TilePlan, SurvivesSaveLoadAndSplits)
 {
     const auto features = perturbed_grid_coverage(20, 20, 10.0, 0.2, 6);

@@ -21,6 +21,7 @@
 #include <cstring>
 #include <exception>
 #include <optional>
+#include <system_error>
 #include <thread>
 
 namespace trisnap {
@@ -371,7 +372,11 @@ ReadSummary read_layer(Plan& plan, tiling::WorkStore& store, const ReadBuffers& 
             }
             std::unique_ptr<SecondReader> second;
             if (const std::uint64_t first = k == 0 ? second_reader_start(plan, buffers) : 0; first > 0) {
-                second = std::make_unique<SecondReader>(plan, first, buffers, interrupt);
+                try {
+                    second = std::make_unique<SecondReader>(plan, first, buffers, interrupt);
+                } catch (const std::system_error& e) { // no thread to be had: one reads it all
+                    spdlog::info("read: no second thread ({}); read on one thread", e.what());
+                }
             }
             read_features(reader, static_cast<std::uint32_t>(k), to, second.get());
             if (plan.layers.size() > 1) {

@@ -50,7 +50,8 @@ TEST(CliTiling, ThreadsTilesAndNoTilesGiveIdenticalBytes)
 // layer this small): the output, the report's counts and problems are the one-thread run's, the
 // log says which features it read; started one row late (TRISNAP_READ_SPLIT_SKEW, a driver
 // whose order disagreed) its features are set aside and the run reads on alone, to the same
-// bytes. At the default minimum (20,000 features) Andorra's 5,757 are read on one thread.
+// bytes. At the default minimum (20,000 features) Andorra's 5,757 are read on one thread, and
+// with --no-tiles a layer of any size.
 TEST(CliTiling, TheSecondReaderGivesTheOneThreadBytes)
 {
     if (!exists(andorra())) GTEST_SKIP() << "data set absent: " << andorra();
@@ -80,6 +81,8 @@ TEST(CliTiling, TheSecondReaderGivesTheOneThreadBytes)
         const auto [bytes, report, log] = run("split", {"--threads", "2"});
         EXPECT_NE(log.find("read: features 3456 to 5757 of 5757 read on a second thread"), std::string::npos) << log;
         same_as_one(bytes, report);
+        const auto [untiled_bytes, untiled_report, untiled_log] = run("untiled", {"--threads", "2", "--no-tiles"});
+        EXPECT_EQ(untiled_log.find("second thread"), std::string::npos) << "--no-tiles reads on one thread: " << untiled_log;
         const ScopedEnv skew("TRISNAP_READ_SPLIT_SKEW", "1");
         const auto [late_bytes, late_report, late_log] = run("late", {"--threads", "2"});
         EXPECT_NE(late_log.find("the second thread's features set aside (it began at FID"), std::string::npos) << late_log;

@@ -41,8 +41,10 @@ void keep_freed_memory();
 
 /// Call first thing in a thread that grows memory of its own (app/read_phase.cpp): its glibc
 /// heap (a 64 MiB mapping per arena, not the first thread's) advised for transparent huge pages
-/// as keep_freed_memory() advises the main heap, on the same conditions. Measured 2026-11-29: a
-/// thread reading half of Andorra x43 took 0.42 s without, where the main thread took ~0.2.
+/// as keep_freed_memory() advises the main heap, on the same conditions, and made writable up
+/// to ~30 MiB at once. Measured 2026-11-29 on the read's second thread (124 k features of
+/// Andorra x43): 0.49 s without either, 0.41 with the advice, 0.31-0.33 with both
+/// (bench/results/REPORT.md, "The read in two parts").
 void advise_thread_heap();
 
 } // namespace trisnap

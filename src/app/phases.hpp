@@ -58,9 +58,9 @@ struct ReadBuffers {
     std::size_t sample_vertices = 0;
     std::size_t fids = 0;
     std::size_t problem_bytes = 0;
-    /// The second half of a large layer may be read at once on another thread and held in
-    /// memory until the first is read (app/read_phase.cpp): not under a memory limit, nor with
-    /// a work directory on disk (an out-of-core run holds no half of the layer).
+    /// The last part of a large layer may be read at once on another thread and held in
+    /// memory until the first part is read (app/read_phase.cpp): not under a memory limit, nor
+    /// with a work directory on disk (an out-of-core run holds no part of the layer aside).
     bool second_reader = false;
 };
 

@@ -124,10 +124,10 @@ RecordEntry take_feature(InputFeature& feature, std::uint64_t seq, double tolera
     return e;
 }
 
-/// The features of a layer from input position `first` on (its second part), read on a thread of its own from a
-/// dataset handle of its own while the caller reads the ones before: the same work per
-/// feature (take_feature), held in memory until the caller has read up to `first` and appends
-/// it, so that the work files are byte for byte the sequential read's. Nothing but flat
+/// The features of a layer from input position `first` on (its second part), read on a thread
+/// of its own from a dataset handle of its own while the caller reads the ones before: the same
+/// work per feature (take_feature), held in memory until the caller has read up to `first` and
+/// appends it, so that the work files are byte for byte the sequential read's. Nothing but flat
 /// buffers crosses between the threads (handing features over lost: REPORT.md "Reading beside
 /// the spool, again"). Where this reader starts is found by SQL (start_at()); the caller takes
 /// them only when the feature it reads at `first` is the one this reader began with (the
@@ -200,7 +200,7 @@ private:
     }
     void run(const Plan& plan, const InterruptGuard& interrupt)
     {
-        advise_thread_heap(); // its arena in huge pages too (Andorra x43: its 124 k features in 0.49 s without, 0.41 with)
+        advise_thread_heap(); // its heap in huge pages too (app/allocator.hpp: 0.49 s -> 0.31-0.33)
         try {
             const GDALDatasetUniquePtr dataset = open_input(plan.input_path, plan.open_options);
             OGRLayer* layer = dataset->GetLayerByName(plan.layer->GetName());

@@ -83,6 +83,7 @@ TEST(CliTiling, TheSecondReaderGivesTheOneThreadBytes)
         same_as_one(bytes, report);
         const auto [untiled_bytes, untiled_report, untiled_log] = run("untiled", {"--threads", "2", "--no-tiles"});
         EXPECT_EQ(untiled_log.find("second thread"), std::string::npos) << "--no-tiles reads on one thread: " << untiled_log;
+        EXPECT_EQ(untiled_bytes, one_bytes); // the tiled bytes, as ever
         const ScopedEnv skew("TRISNAP_READ_SPLIT_SKEW", "1");
         const auto [late_bytes, late_report, late_log] = run("late", {"--threads", "2"});
         EXPECT_NE(late_log.find("the second thread's features set aside (it began at FID"), std::string::npos) << late_log;

@@ -13,6 +13,7 @@
 #include "app/allocator.hpp"
 #include "app/command.hpp"
 #include "io/dataset.hpp"
+#include "io/sql_quote.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -246,18 +247,11 @@ private:
         // TRISNAP_READ_SPLIT_SKEW (tests only) starts this many rows late: join() must refuse it.
         const char* skew = std::getenv("TRISNAP_READ_SPLIT_SKEW");
         const std::uint64_t offset = m_first + (skew != nullptr ? std::strtoull(skew, nullptr, 10) : 0);
-        const auto quoted = [](const std::string& name) {
-            std::string q = "\"";
-            for (const char c : name) {
-                q += c == '"' ? std::string("\"\"") : std::string(1, c);
-            }
-            return q + "\"";
-        };
         const std::string fid = layer.GetFIDColumn();
         if (fid.empty()) {
             throw std::runtime_error("no FID column");
         }
-        const std::string sql = "SELECT " + quoted(fid) + " AS trisnap_start FROM " + quoted(layer.GetName()) +
+        const std::string sql = "SELECT " + sql_identifier(fid) + " AS trisnap_start FROM " + sql_identifier(layer.GetName()) +
                                 " LIMIT 1 OFFSET " + std::to_string(offset);
         OGRLayer* rows = dataset.ExecuteSQL(sql.c_str(), nullptr, nullptr);
         if (rows == nullptr) {
@@ -270,7 +264,7 @@ private:
         if (!found) {
             return false;
         }
-        if (layer.SetAttributeFilter((quoted(fid) + " >= " + std::to_string(start)).c_str()) != OGRERR_NONE) {
+        if (layer.SetAttributeFilter((sql_identifier(fid) + " >= " + std::to_string(start)).c_str()) != OGRERR_NONE) {
             throw std::runtime_error("cannot filter on the FID");
         }
         return true;

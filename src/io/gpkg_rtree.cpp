@@ -2,6 +2,7 @@
 
 #include "io/gdal_errors.hpp"
 #include "io/io_error.hpp"
+#include "io/sql_quote.hpp"
 
 #include <sqlite3.h>
 
@@ -126,21 +127,6 @@ void put_float(std::string& out, std::size_t at, float f)
     }
 }
 
-/// `text` between `quote`s, a quote inside doubled: an SQL identifier ("...") or string ('...').
-std::string quoted(const std::string& text, char quote)
-{
-    std::string out(1, quote);
-    for (char c : text) {
-        out += c;
-        if (c == quote) {
-            out += quote;
-        }
-    }
-    return out + quote;
-}
-
-std::string identifier(const std::string& name) { return quoted(name, '"'); }
-std::string literal(const std::string& text) { return quoted(text, '\''); }
 
 /// Where the index goes, for the error that names it: OUT's path, the layer, and what was left at
 /// OUT (the writer's outcome).
@@ -202,7 +188,7 @@ void insert_rows(sqlite3* db, const IndexTarget& target, const std::string& tabl
 {
     constexpr std::size_t k_rows = 128; // 256 parameters: within SQLite's limit of 999 since 3.0
     const auto text = [&](std::size_t rows) {
-        std::string t = "INSERT INTO " + identifier(table) + " VALUES ";
+        std::string t = "INSERT INTO " + sql_identifier(table) + " VALUES ";
         for (std::size_t r = 0; r < rows; ++r) {
             t += r == 0 ? "(?,?)" : ",(?,?)";
         }
@@ -276,15 +262,15 @@ private:
 std::vector<std::string> rtree_triggers(const std::string& table, const std::string& column, const std::string& fid,
                                         const std::string& rtree)
 {
-    const std::string t = identifier(table);
-    const std::string c = identifier(column);
-    const std::string i = identifier(fid);
-    const std::string r = identifier(rtree);
+    const std::string t = sql_identifier(table);
+    const std::string c = sql_identifier(column);
+    const std::string i = sql_identifier(fid);
+    const std::string r = sql_identifier(rtree);
     const std::string row = "VALUES (NEW." + i + ",ST_MinX(NEW." + c + "), ST_MaxX(NEW." + c + "),ST_MinY(NEW." + c +
                             "), ST_MaxY(NEW." + c + "))";
     const std::string has = "(NEW." + c + " NOTNULL AND NOT ST_IsEmpty(NEW." + c + "))";
     const std::string lacks = "(NEW." + c + " ISNULL OR ST_IsEmpty(NEW." + c + "))";
-    const auto name = [&](const char* suffix) { return identifier(rtree + "_" + suffix); };
+    const auto name = [&](const char* suffix) { return sql_identifier(rtree + "_" + suffix); };
     return {
         "CREATE TRIGGER " + name("insert") + " AFTER INSERT ON " + t + " WHEN (new." + c + " NOT NULL AND NOT ST_IsEmpty(NEW." +
             c + ")) BEGIN INSERT OR REPLACE INTO " + r + " " + row + "; END",
@@ -397,13 +383,13 @@ void GpkgIndexBuilder::write(GDALDataset& dataset, OGRLayer& layer, const std::s
     // without it, or above the box budget, GDAL builds the index its own way.
     auto* const db = static_cast<sqlite3*>(dataset.GetInternalHandle("SQLITE_HANDLE"));
     if (m_fallback || db == nullptr) {
-        sql.run("SELECT CreateSpatialIndex(" + literal(table) + ", " + literal(column) + ")");
+        sql.run("SELECT CreateSpatialIndex(" + sql_literal(table) + ", " + sql_literal(column) + ")");
         return;
     }
     const std::string rtree = "rtree_" + table + "_" + column;
-    sql.run("CREATE VIRTUAL TABLE " + identifier(rtree) + " USING rtree(id, minx, maxx, miny, maxy)");
+    sql.run("CREATE VIRTUAL TABLE " + sql_identifier(rtree) + " USING rtree(id, minx, maxx, miny, maxy)");
     // SQLite sizes every node like the root it just made (page size - 64, at most 51 cells).
-    const std::int64_t node_size = sql.integer("SELECT length(data) FROM " + identifier(rtree + "_node") + " WHERE nodeno = 1");
+    const std::int64_t node_size = sql.integer("SELECT length(data) FROM " + sql_identifier(rtree + "_node") + " WHERE nodeno = 1");
     if (node_size < static_cast<std::int64_t>(4 + 2 * k_cell_bytes)) {
         target.fail("SQLite made an R-tree node of " + std::to_string(node_size) + " bytes");
     }
@@ -415,7 +401,7 @@ void GpkgIndexBuilder::write(GDALDataset& dataset, OGRLayer& layer, const std::s
         return rtree_node_blob(tree.nodes[k], tree.depth, k == 0, static_cast<std::size_t>(node_size));
     };
     {
-        Prepared root(db, "UPDATE " + identifier(rtree + "_node") + " SET data = ? WHERE nodeno = 1", target);
+        Prepared root(db, "UPDATE " + sql_identifier(rtree + "_node") + " SET data = ? WHERE nodeno = 1", target);
         root.bind(1, node_blob(0));
         root.run();
     }
@@ -446,7 +432,7 @@ void GpkgIndexBuilder::write(GDALDataset& dataset, OGRLayer& layer, const std::s
     sql.run("CREATE TABLE IF NOT EXISTS gpkg_extensions (table_name TEXT, column_name TEXT, extension_name TEXT NOT NULL, "
             "definition TEXT NOT NULL, scope TEXT NOT NULL, CONSTRAINT ge_tce UNIQUE (table_name, column_name, extension_name))");
     sql.run("INSERT INTO gpkg_extensions (table_name, column_name, extension_name, definition, scope) VALUES (" +
-            literal(table) + ", " + literal(column) +
+            sql_literal(table) + ", " + sql_literal(column) +
             ", 'gpkg_rtree_index', 'http://www.geopackage.org/spec120/#extension_rtree', 'write-only')");
 }
 

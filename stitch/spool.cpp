@@ -184,13 +184,19 @@ FeatureSpool::~FeatureSpool() = default;
 
 namespace {
 
-void count_spooled(SpoolMeta& meta, std::uint64_t vertices, std::int64_t fid)
+// The largest feature so far: the first of the largest, in input order.
+void note_largest(SpoolMeta& meta, std::uint64_t vertices, std::int64_t fid)
 {
-    meta.vertices += vertices;
-    if (vertices > meta.largest_vertices) { // the first of the largest, in input order
+    if (vertices > meta.largest_vertices) {
         meta.largest_vertices = vertices;
         meta.largest_fid = fid;
     }
+}
+
+void count_spooled(SpoolMeta& meta, std::uint64_t vertices, std::int64_t fid)
+{
+    meta.vertices += vertices;
+    note_largest(meta, vertices, fid);
     ++meta.spooled;
 }
 
@@ -248,10 +254,7 @@ void FeatureSpool::append(SpoolPart&& part)
     }
     m.meta.records += part.m_meta.records;
     m.meta.vertices += part.m_meta.vertices;
-    if (part.m_meta.largest_vertices > m.meta.largest_vertices) {
-        m.meta.largest_vertices = part.m_meta.largest_vertices;
-        m.meta.largest_fid = part.m_meta.largest_fid;
-    }
+    note_largest(m.meta, part.m_meta.largest_vertices, part.m_meta.largest_fid); // the part's come later
     m.meta.spooled += part.m_meta.spooled;
     m.sample.append(std::move(part.m_sample));
     part = SpoolPart(part.m_tolerance, 16);

@@ -422,9 +422,9 @@ TEST(DirectoryStore, FullDiskIsADiskFullErrorNamingTheDirectory)
     fs::remove_all(dir);
 }
 
-TEST(VertexSample, DoesNotDependOnInputOrderAndKeepsEverythingUnderItsCap)
+/// Every ring point of the features, in order (closing points included).
+std::vector<Coord> ring_points(const std::vector<Feature>& features)
 {
-    const auto features = perturbed_grid_coverage(40, 40, 1.0, 0.2, 5, 2);
     std::vector<Coord> pts;
     for (const Feature& f : features) {
         for (const Polygon& p : f.geometry.polygons) {
@@ -433,6 +433,12 @@ TEST(VertexSample, DoesNotDependOnInputOrderAndKeepsEverythingUnderItsCap)
             }
         }
     }
+    return pts;
+}
+
+TEST(VertexSample, DoesNotDependOnInputOrderAndKeepsEverythingUnderItsCap)
+{
+    const std::vector<Coord> pts = ring_points(perturbed_grid_coverage(40, 40, 1.0, 0.2, 5, 2));
     auto sample_of = [&](std::size_t cap, unsigned seed) {
         std::vector<Coord> order = pts;
         std::mt19937 rng(seed);
@@ -465,16 +471,9 @@ TEST(VertexSample, DoesNotDependOnInputOrderAndKeepsEverythingUnderItsCap)
 // layer is cut and whatever levels each part reached on its own.
 TEST(VertexSample, AppendedPartsGiveTheSequentialSample)
 {
-    const auto features = perturbed_grid_coverage(30, 30, 1.0, 0.2, 7, 2);
-    std::vector<Coord> pts;
-    for (const Feature& f : features) {
-        for (const Polygon& p : f.geometry.polygons) {
-            for (const Path& r : p.rings) {
-                pts.insert(pts.end(), r.begin(), r.end());
-            }
-        }
-    }
+    std::vector<Coord> pts = ring_points(perturbed_grid_coverage(30, 30, 1.0, 0.2, 7, 2));
     pts.push_back({std::nan(""), 1.0}); // not counted by either
+    std::size_t levels_apart = 0; // cuts where the two parts reached different levels alone
     for (const std::size_t cap : {pts.size(), pts.size() / 5, pts.size() / 40, std::size_t{16}}) {
         tiling::VertexSample whole(cap);
         for (const Coord& c : pts) {
@@ -487,6 +486,7 @@ TEST(VertexSample, AppendedPartsGiveTheSequentialSample)
             for (std::size_t i = 0; i < pts.size(); ++i) {
                 (i < cut ? first : second).add(pts[i].x, pts[i].y);
             }
+            levels_apart += tiling::VertexSample(first).take().level != tiling::VertexSample(second).take().level;
             first.append(std::move(second));
             const tiling::PlanInput got = first.take();
             SCOPED_TRACE("cap " + std::to_string(cap) + ", cut at " + std::to_string(cut));
@@ -495,12 +495,15 @@ TEST(VertexSample, AppendedPartsGiveTheSequentialSample)
             EXPECT_EQ(got.xs, expected.xs);
             EXPECT_EQ(got.ys, expected.ys);
             EXPECT_EQ(got.extent.xmin, expected.extent.xmin);
+            EXPECT_EQ(got.extent.ymin, expected.extent.ymin);
+            EXPECT_EQ(got.extent.xmax, expected.extent.xmax);
             EXPECT_EQ(got.extent.ymax, expected.extent.ymax);
         }
         if (cap == pts.size() / 40) {
-            EXPECT_GE(expected.level, 4); // the parts reached other levels than the whole
+            EXPECT_GE(expected.level, 4);
         }
     }
+    EXPECT_GT(levels_apart, 0u) << "no cut had its parts at different levels: append()'s re-filtering went untested";
 }
 
 TEST(TilePlan, SurvivesSaveLoadAndSplits)

@@ -44,7 +44,7 @@ void keep_freed_memory();
 /// as keep_freed_memory() advises the main heap, on the same conditions, and made writable up
 /// to ~30 MiB at once. Measured 2026-11-29 on the read's second thread (124 k features of
 /// Andorra x43): 0.49 s without either, 0.41 with the advice, 0.31-0.33 with both
-/// (bench/results/REPORT.md, "The read in two parts").
+/// (two runs of three; the third 0.46: bench/results/REPORT.md, "The read in two parts").
 void advise_thread_heap();
 
 } // namespace trisnap

@@ -4,10 +4,6 @@
 #include "tiling/records.hpp"
 #include "tiling/tile_input.hpp"
 
-#include <tbb/info.h>
-#include <tbb/parallel_pipeline.h>
-#include <tbb/task_arena.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -89,9 +85,7 @@ namespace {
 class ReachGrid {
 public:
     ReachGrid(const std::vector<Box>& reach, const Box& extent);
-    /// The leaves whose reach meets `b`, ascending. Const: the bucket pass asks from several
-    /// threads at once.
-    void query(const Box& b, std::vector<std::size_t>& out) const;
+    void query(const Box& b, std::vector<std::size_t>& out);
 
 private:
     long cell(double v, double origin, long n) const
@@ -106,6 +100,8 @@ private:
     long m_nx = 1;
     long m_ny = 1;
     std::vector<std::vector<std::uint32_t>> m_cells;
+    std::vector<std::uint32_t> m_stamp;
+    std::uint32_t m_now = 0;
 };
 
 ReachGrid::ReachGrid(const std::vector<Box>& reach, const Box& extent) : m_reach(reach), m_extent(extent)
@@ -121,6 +117,7 @@ ReachGrid::ReachGrid(const std::vector<Box>& reach, const Box& extent) : m_reach
     m_ny = std::clamp(static_cast<long>(h / m_step) + 1, 1L, 4096L);
     m_step = std::max({w / static_cast<double>(m_nx), h / static_cast<double>(m_ny), m_step * 1e-9});
     m_cells.resize(static_cast<std::size_t>(m_nx * m_ny));
+    m_stamp.assign(reach.size(), 0);
     for (std::uint32_t k = 0; k < reach.size(); ++k) {
         const Box& r = reach[k];
         if (r.empty()) {
@@ -134,59 +131,40 @@ ReachGrid::ReachGrid(const std::vector<Box>& reach, const Box& extent) : m_reach
     }
 }
 
-void ReachGrid::query(const Box& b, std::vector<std::size_t>& out) const
+void ReachGrid::query(const Box& b, std::vector<std::size_t>& out)
 {
     out.clear();
+    ++m_now;
     for (long x = cell(b.xmin, m_extent.xmin, m_nx); x <= cell(b.xmax, m_extent.xmin, m_nx); ++x) {
         for (long y = cell(b.ymin, m_extent.ymin, m_ny); y <= cell(b.ymax, m_extent.ymin, m_ny); ++y) {
             for (std::uint32_t k : m_cells[static_cast<std::size_t>(x * m_ny + y)]) {
-                if (m_reach[k].intersects(b)) {
+                if (m_stamp[k] != m_now && m_reach[k].intersects(b)) {
+                    m_stamp[k] = m_now;
                     out.push_back(k);
                 }
             }
         }
     }
-    std::sort(out.begin(), out.end()); // a reach over several cells is found once per cell
-    out.erase(std::unique(out.begin(), out.end()), out.end());
+    std::sort(out.begin(), out.end());
 }
 
-/// `record` framed as tiling::RecordReader reads it, appended to `out`.
-void frame_record(std::string& out, std::string_view record)
-{
-    const auto n = static_cast<std::uint32_t>(record.size());
-    out.append(reinterpret_cast<const char*>(&n), sizeof n);
-    out.append(record);
-}
-
-// Bucket records buffered per leaf and appended to the store in large blocks; a store in
-// memory takes them at once (buffered, they would be copied twice).
+// Bucket records buffered per leaf and appended to the store in large blocks.
 class BucketWriter {
 public:
-    BucketWriter(tiling::WorkStore& store, std::size_t cap) : m_store(store), m_cap(store.on_disk() ? cap : 0) {}
+    BucketWriter(tiling::WorkStore& store, std::size_t cap) : m_store(store), m_cap(cap) {}
     void add(std::size_t leaf, const tiling::TileFeature& f)
     {
-        m_scratch.clear();
-        tiling::ByteWriter w(m_scratch);
-        tiling::put_tile_feature(w, f);
-        m_framed.clear();
-        frame_record(m_framed, m_scratch);
-        add_framed(leaf, m_framed);
-    }
-    /// Records framed by frame_record(), for the leaf's bucket.
-    void add_framed(std::size_t leaf, std::string_view records)
-    {
-        if (records.empty()) {
-            return;
-        }
-        if (m_cap == 0) {
-            m_store.append(files::bucket(leaf), records);
-            return;
-        }
         if (m_buffers.size() <= leaf) {
             m_buffers.resize(leaf + 1);
         }
-        m_buffers[leaf].append(records);
-        m_buffered += records.size();
+        std::string& b = m_buffers[leaf];
+        const std::size_t start = b.size();
+        b.append(sizeof(std::uint32_t), '\0');
+        tiling::ByteWriter w(b);
+        tiling::put_tile_feature(w, f);
+        const auto n = static_cast<std::uint32_t>(b.size() - start - sizeof(std::uint32_t));
+        std::memcpy(b.data() + start, &n, sizeof n);
+        m_buffered += b.size() - start;
         if (m_buffered > m_cap) {
             flush();
         }
@@ -205,11 +183,9 @@ public:
 
 private:
     tiling::WorkStore& m_store;
-    std::size_t m_cap; ///< 0: every add goes to the store at once
+    std::size_t m_cap;
     std::vector<std::string> m_buffers;
     std::size_t m_buffered = 0;
-    std::string m_scratch;
-    std::string m_framed;
 };
 
 } // namespace
@@ -291,108 +267,6 @@ tiling::Box reach_box(const tiling::Box& core, double halo, const std::vector<ti
 
 namespace {
 
-/// A run of features.bin's records for the passes below: read in order, worked on by any
-/// thread, what the work found taken in order. `Found` is the pass's own.
-template <class Found>
-struct SpoolBatch {
-    std::uint64_t first = 0;          ///< the first record's rank
-    std::string bytes;                ///< the records, one after the other
-    std::vector<std::size_t> ends;    ///< where each ends in `bytes`
-    Found found;
-};
-
-/// Runs a pass over features.bin on `threads` threads: `work(rank, feature, has_z, found)`
-/// for each feature, on any thread (batches of them at once), then `take(found, last rank)`
-/// for each batch in input order, on one thread at a time. What the pass makes of the
-/// features therefore does not depend on the number of threads (nor on the batches: `take`
-/// sees every feature's findings in input order). Batches hold at most about `batch_bytes` of
-/// records (or one record), and at most 2 per thread are in flight; threads beyond the cores
-/// are not asked for (each would add 2 batches in flight, and nothing else).
-template <class Found, class Work, class Take>
-void spool_pass(const tiling::WorkStore& store, int threads, std::size_t batch_bytes, const Work& work, const Take& take)
-{
-    using Batch = SpoolBatch<Found>;
-    const std::unique_ptr<tiling::InFile> file = store.open(files::features);
-    tiling::RecordReader reader(*file);
-    std::string record;
-    std::uint64_t rank = 0;
-    bool more = true;
-    const auto read = [&](tbb::flow_control& fc) -> std::shared_ptr<Batch> {
-        auto batch = std::make_shared<Batch>();
-        batch->first = rank;
-        while (more && (batch->ends.empty() || batch->bytes.size() < batch_bytes)) {
-            more = reader.next(record);
-            if (more) {
-                batch->bytes += record;
-                batch->ends.push_back(batch->bytes.size());
-                ++rank;
-            }
-        }
-        if (batch->ends.empty()) {
-            fc.stop();
-            return nullptr;
-        }
-        return batch;
-    };
-    const auto run = [&](std::shared_ptr<Batch> batch) {
-        detail::CleanFeature cf;
-        bool has_z = false;
-        std::size_t start = 0;
-        for (std::size_t i = 0; i < batch->ends.size(); ++i) {
-            tiling::ByteReader r(std::string_view(batch->bytes).substr(start, batch->ends[i] - start), "feature");
-            cf = tiling::get_clean_feature(r, has_z);
-            work(batch->first + i, cf, has_z, batch->found);
-            start = batch->ends[i];
-        }
-        batch->bytes.clear();
-        batch->bytes.shrink_to_fit(); // the records go before the batch waits for its turn
-        return batch;
-    };
-    const auto use = [&](std::shared_ptr<Batch> batch) { take(batch->found, batch->first + batch->ends.size() - 1); };
-    threads = std::clamp(threads, 1, std::max(1, tbb::info::default_concurrency()));
-    tbb::task_arena arena(threads);
-    arena.execute([&] {
-        tbb::parallel_pipeline(static_cast<std::size_t>(2 * threads),
-                               tbb::make_filter<void, std::shared_ptr<Batch>>(tbb::filter_mode::serial_in_order, read) &
-                                   tbb::make_filter<std::shared_ptr<Batch>, std::shared_ptr<Batch>>(tbb::filter_mode::parallel, run) &
-                                   tbb::make_filter<std::shared_ptr<Batch>, void>(tbb::filter_mode::serial_in_order, use));
-    });
-}
-
-/// What a batch of the bucket pass found: for each leaf its features cut to it, framed as its
-/// bucket's records (tiling::put_tile_feature), with their count and engine vertices.
-struct BucketEntries {
-    struct Block {
-        std::size_t leaf = 0;
-        std::string records;
-        std::size_t features = 0;
-        std::size_t vertices = 0;
-    };
-    std::vector<Block> blocks;       ///< in the order the leaves first met in the batch
-    std::vector<std::size_t> leaves; ///< scratch: one feature's
-    tiling::TileFeature cut;         ///< scratch: one feature cut to one leaf
-    std::string record;              ///< scratch: its record
-
-    Block& block(std::size_t leaf)
-    {
-        // A batch is a run of input features: mostly near each other, so in few leaves.
-        for (auto it = blocks.rbegin(); it != blocks.rend(); ++it) {
-            if (it->leaf == leaf) {
-                return *it;
-            }
-        }
-        Block& b = blocks.emplace_back();
-        b.leaf = leaf;
-        return b;
-    }
-};
-
-/// What a batch of the reach pass found: the leaves whose reach grows, each with what it grows by.
-struct ReachGrowth {
-    std::vector<std::pair<std::size_t, Box>> grown;
-    std::vector<std::size_t> leaves; ///< scratch: one feature's
-};
-
 class BucketMaker {
 public:
     BucketMaker(tiling::WorkStore& store, const SpoolMeta& meta, const TilingOptions& tiling, const BucketOptions& options,
@@ -426,34 +300,25 @@ void BucketMaker::reach_pass()
         r0[leaf] = m_layout.has_data(leaf) ? m_layout.core_box(leaf).expanded(h) : Box{};
     }
     m_layout.reach = r0;
-    // A reach is r0 and the points of the edges meeting it: a union, the same in any order.
-    spool_pass<ReachGrowth>(
-        m_store, m_options.threads, m_options.batch_bytes,
-        [&](std::uint64_t, const detail::CleanFeature& cf, bool, ReachGrowth& found) {
-            const Box b = box_of(cf);
-            if (cf.rejected || b.empty()) {
-                return;
-            }
-            found.leaves.clear(); // query() appends
-            plan.query(b.expanded(h), found.leaves);
-            for (std::size_t leaf : found.leaves) {
+    SpooledFeatures in(m_store);
+    detail::CleanFeature cf;
+    bool has_z = false;
+    std::vector<std::size_t> leaves;
+    for (std::uint64_t rank = 0; in.next(cf, has_z); ++rank) {
+        const Box b = box_of(cf);
+        if (!cf.rejected && !b.empty()) {
+            leaves.clear();
+            plan.query(b.expanded(h), leaves);
+            for (std::size_t leaf : leaves) {
                 if (!r0[leaf].empty()) {
-                    Box grown;
-                    grow_reach(cf, b, r0[leaf], grown);
-                    if (!grown.empty()) {
-                        found.grown.emplace_back(leaf, grown);
-                    }
+                    grow_reach(cf, b, r0[leaf], m_layout.reach[leaf]);
                 }
             }
-        },
-        [&](const ReachGrowth& found, std::uint64_t last) {
-            for (const auto& [leaf, grown] : found.grown) {
-                m_layout.reach[leaf].add(grown);
-            }
-            if (m_progress) {
-                m_progress(last + 1, 2 * m_meta.spooled);
-            }
-        });
+        }
+        if (m_progress && rank % 4096 == 0) {
+            m_progress(rank, 2 * m_meta.spooled);
+        }
+    }
     for (Box& r : m_layout.reach) {
         if (!r.empty()) {
             r = r.expanded(h);
@@ -466,51 +331,40 @@ void BucketMaker::bucket_pass()
     const std::size_t n = m_layout.plan.size();
     m_layout.bucket_vertices.assign(n, 0);
     m_layout.bucket_features.assign(n, 0);
-    const ReachGrid grid(m_layout.reach, m_meta.sample.extent);
+    ReachGrid grid(m_layout.reach, m_meta.sample.extent);
     std::vector<std::unique_ptr<tiling::TileCutter>> cutters(n);
-    for (std::size_t leaf = 0; leaf < n; ++leaf) {
-        if (!m_layout.reach[leaf].empty()) { // the grid finds no other
-            cutters[leaf] = leaf_cutter(m_layout, m_meta, leaf);
-        }
-    }
     BucketWriter writer(m_store, m_options.buffer_bytes);
     // A plan's only leaf keeps no bucket file (read_bucket() makes it from features.bin): here
     // its features are only counted. The layer is then not held twice (40 MB of Andorra x43's
     // 127 in memory, or as much disk).
     const bool whole = whole_spool_bucket(m_layout);
-    spool_pass<BucketEntries>(
-        m_store, m_options.threads, m_options.batch_bytes,
-        [&](std::uint64_t rank, const detail::CleanFeature& cf, bool has_z, BucketEntries& found) {
-            const Box b = box_of(cf);
-            if (cf.rejected || b.empty()) {
-                return;
-            }
-            grid.query(b, found.leaves);
-            for (std::size_t leaf : found.leaves) {
-                if (!bucket_entry(*cutters[leaf], m_meta, cf, has_z, rank, found.cut)) {
+    SpooledFeatures in(m_store);
+    detail::CleanFeature cf;
+    bool has_z = false;
+    std::vector<std::size_t> leaves;
+    tiling::TileFeature tf;
+    for (std::uint64_t rank = 0; in.next(cf, has_z); ++rank) {
+        const Box b = box_of(cf);
+        if (!cf.rejected && !b.empty()) {
+            grid.query(b, leaves);
+            for (std::size_t leaf : leaves) {
+                if (!cutters[leaf]) {
+                    cutters[leaf] = leaf_cutter(m_layout, m_meta, leaf);
+                }
+                if (!bucket_entry(*cutters[leaf], m_meta, cf, has_z, rank, tf)) {
                     continue;
                 }
-                BucketEntries::Block& block = found.block(leaf);
-                ++block.features;
-                block.vertices += tiling::engine_vertices(found.cut.feature.geometry);
+                m_layout.bucket_vertices[leaf] += tiling::engine_vertices(tf.feature.geometry);
+                ++m_layout.bucket_features[leaf];
                 if (!whole) {
-                    found.record.clear();
-                    tiling::ByteWriter w(found.record);
-                    tiling::put_tile_feature(w, found.cut);
-                    frame_record(block.records, found.record);
+                    writer.add(leaf, tf);
                 }
             }
-        },
-        [&](const BucketEntries& found, std::uint64_t last) {
-            for (const BucketEntries::Block& block : found.blocks) {
-                m_layout.bucket_vertices[block.leaf] += block.vertices;
-                m_layout.bucket_features[block.leaf] += block.features;
-                writer.add_framed(block.leaf, block.records);
-            }
-            if (m_progress) {
-                m_progress(m_meta.spooled + last + 1, 2 * m_meta.spooled);
-            }
-        });
+        }
+        if (m_progress && rank % 4096 == 0) {
+            m_progress(m_meta.spooled + rank, 2 * m_meta.spooled);
+        }
+    }
     writer.flush();
 }
 

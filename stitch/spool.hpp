@@ -133,8 +133,6 @@ struct BucketOptions {
     double seam_band = 0;                   ///< layer units
     std::uint64_t max_tile_vertices = 0;    ///< 0: no limit; larger buckets are split
     std::size_t buffer_bytes = 64u << 20;   ///< bucket data buffered before appending
-    int threads = 1;                        ///< the passes over features.bin run on this many
-    std::size_t batch_bytes = 1u << 20;     ///< spooled records a thread takes at once (2 per thread in flight)
 };
 
 /// A tile that cannot be made small enough for the budget: what() says which and how much;

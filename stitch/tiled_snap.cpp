@@ -214,7 +214,6 @@ void TiledRun::plan(SpoolMeta& meta, const PassProgress& progress)
     }
     TilingOptions tiling = m.tiling;
     BucketOptions bo;
-    bo.threads = m.threads();
     bo.halo = tiling.halo_factor * m.options.tolerance;
     bo.seam_band = 2 * m.options.tolerance + 4 * m.options.grid;
     bo.max_tile_vertices = m.max_tile_vertices();
@@ -223,9 +222,6 @@ void TiledRun::plan(SpoolMeta& meta, const PassProgress& progress)
         const std::uint64_t share = m.schedule.model.vertices_within(m.schedule.memory_pool / static_cast<std::uint64_t>(m.threads()));
         tiling.plan.vertex_budget = std::min<std::size_t>(tiling.plan.vertex_budget, std::max<std::uint64_t>(share, 16));
         bo.buffer_bytes = static_cast<std::size_t>(std::clamp<std::uint64_t>(m.schedule.memory_pool / 8, 1u << 20, 64u << 20));
-        // The batches in flight (2 per thread, each its records, then what they cut) within a
-        // quarter of the buffers' share.
-        bo.batch_bytes = std::min(bo.batch_bytes, bo.buffer_bytes / (16 * static_cast<std::size_t>(m.threads())));
     }
     m.layout = make_buckets(m.store, m.meta, std::move(sample), tiling, bo, progress);
     m.groups = Groups::of_layout(m.layout);

@@ -192,7 +192,7 @@ void RunPhases::spool()
 {
     // Two passes over the features (reach boxes, buckets): counted as features, each pass half of one.
     auto on_pass = [&](std::uint64_t done, std::uint64_t) {
-        m_interrupt.check(); // after every batch of each pass (at most 1 MiB of features)
+        m_interrupt.check(); // every 4096 features of each pass
         m_progress.update(static_cast<std::int64_t>(done / 2));
     };
     phase("spool", [&] {

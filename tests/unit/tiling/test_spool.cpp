@@ -347,64 +347,6 @@ TEST_P(StoreTest, APlanOfOneLeafTakesItsBucketFromTheSpool)
     EXPECT_EQ(layout.bucket_vertices[0], vertices);
 }
 
-// make_buckets() runs its two passes over features.bin on several threads in batches: the
-// buckets (bytes), reach boxes and counts are the one-thread ones whatever the threads and the
-// batch size, and every bucket holds its features in input order.
-TEST_P(StoreTest, BucketsDoNotDependOnThreadsOrBatches)
-{
-    auto store = make();
-    const double t = 0.01;
-    const std::vector<Feature> input = coverage_line_and_rejected(24, 9);
-    const stitch::SpoolMeta meta = spool_features(*store, input, t);
-    stitch::TilingOptions tiling;
-    tiling.plan.vertex_budget = 300; // a few dozen leaves
-    struct Made {
-        stitch::TileLayout layout;
-        std::vector<std::string> buckets;
-    };
-    const auto make_with = [&](int threads, std::size_t batch_bytes) {
-        stitch::BucketOptions options;
-        options.halo = 32 * t;
-        options.seam_band = 2 * t;
-        options.threads = threads;
-        options.batch_bytes = batch_bytes;
-        options.buffer_bytes = 4096; // the directory store's buffers fill and flush many times
-        Made m;
-        tiling::PlanInput sample = meta.sample;
-        m.layout = stitch::make_buckets(*store, meta, std::move(sample), tiling, options);
-        for (std::size_t leaf = 0; leaf < m.layout.plan.size(); ++leaf) {
-            m.buckets.push_back(store->exists(stitch::files::bucket(leaf)) ? store->get(stitch::files::bucket(leaf)) : "");
-        }
-        return m;
-    };
-    const Made one = make_with(1, std::size_t{1} << 20);
-    ASSERT_GT(one.layout.plan.size(), 8u);
-    std::size_t entries = 0;
-    for (std::size_t leaf = 0; leaf < one.layout.plan.size(); ++leaf) {
-        const std::vector<tiling::TileFeature> bucket = stitch::read_bucket(*store, one.layout, meta, leaf);
-        EXPECT_EQ(bucket.size(), one.layout.bucket_features[leaf]) << "leaf " << leaf;
-        for (std::size_t i = 1; i < bucket.size(); ++i) {
-            EXPECT_LT(bucket[i - 1].rank, bucket[i].rank) << "leaf " << leaf << " is out of input order";
-        }
-        entries += bucket.size();
-    }
-    EXPECT_GT(entries, input.size()) << "no feature met two reaches: the halo went untested";
-    for (const auto& [threads, batch] : std::vector<std::pair<int, std::size_t>>{{2, 1}, {3, 700}, {4, 1 << 14}}) {
-        const Made m = make_with(threads, batch);
-        ASSERT_EQ(m.layout.plan.size(), one.layout.plan.size());
-        EXPECT_EQ(m.layout.bucket_vertices, one.layout.bucket_vertices) << threads << " threads, batches of " << batch;
-        EXPECT_EQ(m.layout.bucket_features, one.layout.bucket_features) << threads << " threads, batches of " << batch;
-        for (std::size_t leaf = 0; leaf < one.layout.plan.size(); ++leaf) {
-            const tiling::Box& a = one.layout.reach[leaf];
-            const tiling::Box& b = m.layout.reach[leaf];
-            EXPECT_TRUE(a.xmin == b.xmin && a.ymin == b.ymin && a.xmax == b.xmax && a.ymax == b.ymax)
-                << "leaf " << leaf << "'s reach, " << threads << " threads";
-            EXPECT_TRUE(m.buckets[leaf] == one.buckets[leaf]) << "leaf " << leaf << "'s bucket, " << threads << " threads, batches of "
-                                                              << batch;
-        }
-    }
-}
-
 // A spool cut to outlines reads back exactly the outlines it held, and nothing whole any more.
 TEST_P(StoreTest, ASpoolCutToOutlinesKeepsItsOutlinesAndNothingElse)
 {

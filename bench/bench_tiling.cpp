@@ -3,6 +3,8 @@
 //   Tiling/<layer>/untiled     one triangulation (snap(), as --no-tiles)
 //   Tiling/<layer>/tiles:1     default balanced tiles, 1 thread   -> overhead = this / untiled - 1
 //   Tiling/<layer>/tiles:2     the same on 2 threads              -> speed-up = tiles:1 / tiles:2
+//   Spool/<layer>              the spool phase alone: the plan, then the reach and bucket passes
+//                              over the spooled layer (make_buckets()), one thread
 // Counters: tiles, seam merges, halo growths, and `identical` = share of features equal to the
 // untiled output (tile invariance), measured once per layer outside the timing.
 // bench/tiling runs this with repetitions and writes bench/results/tiling.json (medians).
@@ -10,7 +12,9 @@
 #include "core/snap.hpp"
 #include "core/wkt.hpp"
 #include "ogr_layer_reader.hpp"
+#include "stitch/spool.hpp"
 #include "stitch/tiled_snap.hpp"
+#include "tiling/work_store.hpp"
 #include "test_data.hpp"
 
 #include <benchmark/benchmark.h>
@@ -95,6 +99,58 @@ void BM_Tiling(benchmark::State& state, Layer l, int threads)
     }
 }
 
+// The layer spooled once into a store in memory (as the read phase does); each iteration plans
+// it and fills the buckets again, as the spool phase does (make_buckets() clears them first).
+void BM_Spool(benchmark::State& state, Layer l)
+{
+    Loaded* d = load(l);
+    if (d->features.empty()) {
+        state.SkipWithError((std::string("data set absent: ") + l.file).c_str());
+        return;
+    }
+    const std::unique_ptr<tiling::WorkStore> store = tiling::make_memory_store();
+    stitch::SpoolMeta meta;
+    {
+        stitch::FeatureSpool spool(*store, l.tolerance, std::size_t{16} << 20, std::size_t{1} << 30);
+        std::vector<Problem> problems;
+        for (std::size_t i = 0; i < d->features.size(); ++i) {
+            spool.add(i, d->features[i].id, d->features[i].geometry, problems);
+        }
+        meta = spool.finish();
+    }
+    std::uint64_t to_snap = 0; // spooled and not rejected by the cleaning: each in a bucket at least
+    {
+        stitch::SpooledFeatures in(*store);
+        detail::CleanFeature cf;
+        bool has_z = false;
+        while (in.next(cf, has_z)) {
+            to_snap += !cf.rejected;
+        }
+    }
+    const stitch::TilingOptions tiling;
+    stitch::BucketOptions options;
+    options.halo = tiling.halo_factor * l.tolerance;
+    options.seam_band = 2 * l.tolerance;
+    std::size_t leaves = 0;
+    std::uint64_t entries = 0;
+    for (auto _ : state) {
+        tiling::PlanInput sample = meta.sample;
+        const stitch::TileLayout layout = stitch::make_buckets(*store, meta, std::move(sample), tiling, options);
+        leaves = layout.plan.size();
+        entries = 0;
+        for (const std::uint64_t n : layout.bucket_features) {
+            entries += n;
+        }
+    }
+    if (entries < to_snap) {
+        state.SkipWithError("the buckets hold fewer features than the spool gave to snap");
+        return;
+    }
+    state.counters["features"] = static_cast<double>(d->features.size());
+    state.counters["tiles"] = static_cast<double>(leaves);
+    state.counters["bucket_entries"] = static_cast<double>(entries);
+}
+
 int register_all()
 {
     for (const Layer& l : layers) {
@@ -102,6 +158,7 @@ int register_all()
         benchmark::RegisterBenchmark((base + "/untiled").c_str(), BM_Tiling, l, 0)->Unit(benchmark::kMillisecond)->UseRealTime();
         benchmark::RegisterBenchmark((base + "/tiles:1").c_str(), BM_Tiling, l, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
         benchmark::RegisterBenchmark((base + "/tiles:2").c_str(), BM_Tiling, l, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
+        benchmark::RegisterBenchmark((std::string("Spool/") + l.name).c_str(), BM_Spool, l)->Unit(benchmark::kMillisecond)->UseRealTime();
     }
     return 0;
 }

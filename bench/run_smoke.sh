@@ -98,8 +98,11 @@ PY
 echo "run_smoke: ok, bench/compare table in $out"
 rm -rf "$root/bench/results/compare_smoke"
 
-# One thread against two, end to end (issue 11), once each on the bundled sample.
-python3 "$root/bench/threads" --quick --json "$root/bench/results/threads_smoke.json" \
+# One thread against two, end to end (issue 11), once each on the bundled sample; with two CPUs
+# also pinned to each (the ceiling and efficiency table).
+pinned=()
+if [[ "$(nproc)" -ge 2 ]]; then pinned=(--pinned); fi
+python3 "$root/bench/threads" --quick "${pinned[@]}" --json "$root/bench/results/threads_smoke.json" \
   || { echo "run_smoke: bench/threads failed" >&2; exit 1; }
 
 # Tiling (issue 5): untiled vs tiles on 1 and 2 threads on Andorra, one repetition.

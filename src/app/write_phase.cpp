@@ -114,14 +114,20 @@ private:
 };
 
 /// One input feature read again, lined up with its record and, when snapped, its stitched
-/// output: what the writer needs, prepared on the reading side of the phase.
+/// output: what the writer needs, prepared on the reading side of the phase. A stitched
+/// geometry is handed over flat and made an OGR geometry by the writer, which encodes and frees
+/// it on its own core: made on the reading side, its ring objects were read by the other core
+/// and lent back to be freed (Andorra x43 at 2 threads, the vCPUs far apart: write phase median
+/// 1.455 -> 1.41 s, better in 11 of 16 interleaved pairs; bench/results/REPORT.md, "The two
+/// vCPUs' pace").
 struct Ready {
     std::uint32_t k = 0;                  ///< input layer
     RecordEntry e;
     OGRFeatureUniquePtr f;                ///< the input feature (attributes)
-    std::unique_ptr<OGRGeometry> geometry; ///< what to write: its own or the stitched one; null: none
+    std::unique_ptr<OGRGeometry> geometry; ///< a feature passed through: its own geometry; null: none
+    Geometry stitched;                     ///< a snapped feature: its stitched geometry; empty: none
     std::vector<Problem> problems;         ///< the stitched feature's
-    std::size_t vertices = 0;              ///< of `geometry`
+    std::size_t vertices = 0;              ///< of `geometry` or `stitched`
     std::size_t weight() const { return vertices; } ///< what it holds in memory (app/handoff.hpp)
 };
 
@@ -227,9 +233,15 @@ void Preparer::prepare(Ready& r)
     r.problems = std::move(m_item.problems);
     m_item.problems.clear();
     r.f->SetGeometryDirectly(nullptr);
-    if (!m_item.output.geometry.empty()) {
-        r.geometry.reset(to_ogr(m_item.output.geometry, static_cast<OGRwkbGeometryType>(r.e.type)));
-        r.vertices = count_vertices(r.geometry.get());
+    r.stitched = std::move(m_item.output.geometry);
+    m_item.output.geometry = {};
+    for (const Polygon& p : r.stitched.polygons) { // the handoff's weight (app/handoff.hpp)
+        for (const Path& ring : p.rings) {
+            r.vertices += ring.size();
+        }
+    }
+    for (const Path& line : r.stitched.lines) {
+        r.vertices += line.size();
     }
 }
 
@@ -257,7 +269,8 @@ private:
 // until the end (their order in the log is the same: no other phase reports those codes).
 void Writer::write(std::uint32_t k, std::int64_t fid, OGRFeature& f, std::unique_ptr<OGRGeometry>& geometry)
 {
-    // The geometry comes back to the item, to be freed with it on the reading side.
+    // The geometry comes back to the caller: a feature's own to the item, to be freed with it on
+    // the reading side that read it; a stitched one made here, to be freed here.
     if (std::string error = m_writer.write_lending(k, f, fid, geometry); !error.empty()) {
         ++m_result.unwritable;
         ++m_result.layers[k].unwritable;
@@ -303,11 +316,12 @@ void Writer::feature(Ready& r)
         p.layer = k;
         m_result.problems.add(std::move(p));
     }
-    if (!r.geometry) {
+    if (r.stitched.empty()) {
         vanished(k, e, reported, rejected);
         return;
     }
-    write(k, e.fid, *r.f, r.geometry);
+    std::unique_ptr<OGRGeometry> g(to_ogr(r.stitched, static_cast<OGRwkbGeometryType>(e.type)));
+    write(k, e.fid, *r.f, g);
 }
 
 /// Whether the write phase hands features to a writer thread (app/handoff.hpp). It pays where

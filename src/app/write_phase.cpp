@@ -11,6 +11,7 @@
 #include "io/io_error.hpp"
 #include "io/ogr_geometry.hpp"
 #include "io/reader.hpp"
+#include "tiling/tile_input.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -127,7 +128,7 @@ struct Ready {
     std::unique_ptr<OGRGeometry> geometry; ///< a feature passed through: its own geometry; null: none
     Geometry stitched;                     ///< a snapped feature: its stitched geometry; empty: none
     std::vector<Problem> problems;         ///< the stitched feature's
-    std::size_t vertices = 0;              ///< of `geometry` or `stitched`
+    std::size_t vertices = 0;              ///< of `geometry` or `stitched` (the handoff's weight)
     std::size_t weight() const { return vertices; } ///< what it holds in memory (app/handoff.hpp)
 };
 
@@ -235,14 +236,7 @@ void Preparer::prepare(Ready& r)
     r.f->SetGeometryDirectly(nullptr);
     r.stitched = std::move(m_item.output.geometry);
     m_item.output.geometry = {};
-    for (const Polygon& p : r.stitched.polygons) { // the handoff's weight (app/handoff.hpp)
-        for (const Path& ring : p.rings) {
-            r.vertices += ring.size();
-        }
-    }
-    for (const Path& line : r.stitched.lines) {
-        r.vertices += line.size();
-    }
+    r.vertices = tiling::engine_vertices(r.stitched);
 }
 
 /// The writing side: OUT's writer and the run's counts and problems.

@@ -8,6 +8,7 @@
 #include "app/command.hpp"
 #include "app/handoff.hpp"
 
+#include "io/gpkg_rows.hpp"
 #include "io/io_error.hpp"
 #include "io/ogr_geometry.hpp"
 #include "io/reader.hpp"
@@ -115,7 +116,9 @@ private:
 };
 
 /// One input feature read again, lined up with its record and, when snapped, its stitched
-/// output: what the writer needs, prepared on the reading side of the phase. A stitched
+/// output: what the writer needs, prepared on the reading side of the phase. Where OUT's layer
+/// takes GeoPackage rows (io/gpkg_rows.hpp) the geometry is encoded here, into the blob the
+/// row binds, and freed here: the writing thread only binds and steps. Otherwise a stitched
 /// geometry is handed over flat and made an OGR geometry by the writer, which encodes and frees
 /// it on its own core: made on the reading side, its ring objects were read by the other core
 /// and lent back to be freed (Andorra x43 at 2 threads, the vCPUs far apart: write phase median
@@ -127,18 +130,23 @@ struct Ready {
     OGRFeatureUniquePtr f;                ///< the input feature (attributes)
     std::unique_ptr<OGRGeometry> geometry; ///< a feature passed through: its own geometry; null: none
     Geometry stitched;                     ///< a snapped feature: its stitched geometry; empty: none
+    bool as_row = false;                   ///< the geometry is in `row` (`geometry`, `stitched` unused)
+    GpkgGeometry row;                      ///< its GeoPackage blob; empty: none
     std::vector<Problem> problems;         ///< the stitched feature's
-    std::size_t vertices = 0;              ///< of `geometry` or `stitched` (the handoff's weight)
+    std::size_t vertices = 0;              ///< of the geometry held (the handoff's weight)
     std::size_t weight() const { return vertices; } ///< what it holds in memory (app/handoff.hpp)
 };
+
+/// The handoff's weight of a blob: its bytes over a 2D vertex's.
+std::size_t blob_vertices(const GpkgGeometry& g) { return g.blob.size() / 16; }
 
 /// The reading side: the layers read again in step with records.bin and the stitched features.
 /// It touches the input dataset, the work store and the merger only.
 class Preparer {
 public:
-    Preparer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerger& merger, const RunResult& result,
-             const InterruptGuard& interrupt)
-        : m_plan(plan), m_log(store), m_merger(merger), m_interrupt(interrupt)
+    Preparer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerger& merger, const LayerWriter& writer,
+             const RunResult& result, const InterruptGuard& interrupt)
+        : m_plan(plan), m_log(store), m_merger(merger), m_writer(writer), m_interrupt(interrupt)
     {
         for (const LayerCounts& c : result.layers) { // copied: the writing side updates the result
             m_layers.push_back({c.input, c.input != c.rejected + c.snapped});
@@ -159,6 +167,7 @@ private:
     Plan& m_plan;
     RecordLog m_log;
     stitch::OutputMerger& m_merger;
+    const LayerWriter& m_writer; ///< rows(): read only, set before the phase
     const InterruptGuard& m_interrupt;
     struct Layer {
         std::size_t input = 0;        ///< features read the first time
@@ -223,8 +232,15 @@ void Preparer::prepare(Ready& r)
     if (r.e.verdict == RecordEntry::rejected) {
         return;
     }
+    const GpkgRows* rows = m_writer.rows(r.k);
     if (r.e.verdict == RecordEntry::pass) {
         r.geometry.reset(r.f->StealGeometry());
+        if (rows != nullptr && encode_gpkg(r.geometry.get(), rows->srs_id(), r.row)) {
+            r.as_row = true;
+            r.geometry.reset();
+            r.vertices = blob_vertices(r.row);
+            return;
+        }
         r.vertices = count_vertices(r.geometry.get());
         return;
     }
@@ -234,6 +250,13 @@ void Preparer::prepare(Ready& r)
     r.problems = std::move(m_item.problems);
     m_item.problems.clear();
     r.f->SetGeometryDirectly(nullptr);
+    if (rows != nullptr) {
+        encode_gpkg(m_item.output.geometry, static_cast<OGRwkbGeometryType>(r.e.type), rows->srs_id(), r.row);
+        m_item.output.geometry = {};
+        r.as_row = true;
+        r.vertices = blob_vertices(r.row);
+        return;
+    }
     r.stitched = std::move(m_item.output.geometry);
     m_item.output.geometry = {};
     r.vertices = tiling::engine_vertices(r.stitched);
@@ -252,6 +275,8 @@ public:
 
 private:
     void write(std::uint32_t k, std::int64_t fid, OGRFeature& f, std::unique_ptr<OGRGeometry>& geometry);
+    void write_row(std::uint32_t k, std::int64_t fid, const OGRFeature& f, const GpkgGeometry& row);
+    void account(std::uint32_t k, std::int64_t fid, const std::string& error);
     void vanished(std::uint32_t k, const RecordEntry& e, bool reported, bool rejected);
 
     LayerWriter& m_writer;
@@ -265,7 +290,19 @@ void Writer::write(std::uint32_t k, std::int64_t fid, OGRFeature& f, std::unique
 {
     // The geometry comes back to the caller: a feature's own to the item, to be freed with it on
     // the reading side that read it; a stitched one made here, to be freed here.
-    if (std::string error = m_writer.write_lending(k, f, fid, geometry); !error.empty()) {
+    account(k, fid, m_writer.write_lending(k, f, fid, geometry));
+}
+
+void Writer::write_row(std::uint32_t k, std::int64_t fid, const OGRFeature& f, const GpkgGeometry& row)
+{
+    account(k, fid, m_writer.write_row(k, f, fid, row));
+}
+
+// A feature handed to OUT's writer: refused (`error`: problem 902), or written with the values
+// the format changed.
+void Writer::account(std::uint32_t k, std::int64_t fid, const std::string& error)
+{
+    if (!error.empty()) {
         ++m_result.unwritable;
         ++m_result.layers[k].unwritable;
         m_result.problems.add(feature_problem(k, fid, ProblemCode::unwritable_feature, error));
@@ -300,7 +337,11 @@ void Writer::feature(Ready& r)
         return;
     }
     if (e.verdict == RecordEntry::pass) {
-        write(k, e.fid, *r.f, r.geometry);
+        if (r.as_row) {
+            write_row(k, e.fid, *r.f, r.row);
+        } else {
+            write(k, e.fid, *r.f, r.geometry);
+        }
         return;
     }
     const bool reported = e.problem || !r.problems.empty();
@@ -310,8 +351,12 @@ void Writer::feature(Ready& r)
         p.layer = k;
         m_result.problems.add(std::move(p));
     }
-    if (r.stitched.empty()) {
+    if (r.as_row ? r.row.blob.empty() : r.stitched.empty()) {
         vanished(k, e, reported, rejected);
+        return;
+    }
+    if (r.as_row) {
+        write_row(k, e.fid, *r.f, r.row);
         return;
     }
     std::unique_ptr<OGRGeometry> g(to_ogr(r.stitched, static_cast<OGRwkbGeometryType>(e.type)));
@@ -338,7 +383,7 @@ void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerge
                  RunResult& result, Progress& progress, const InterruptGuard& interrupt)
 {
     result.problems.begin_phase("problems-write-"); // runs of a write that stopped go
-    Preparer input(plan, store, merger, result, interrupt);
+    Preparer input(plan, store, merger, writer, result, interrupt);
     Writer w(writer, result);
     for (std::size_t k = 0; k < result.layers.size(); ++k) {
         writer.expect(k, result.layers[k].input);

@@ -363,13 +363,21 @@ void GpkgIndexBuilder::add(std::int64_t fid, const OGRGeometry* geometry)
     if (m_fallback || geometry == nullptr || geometry->IsEmpty()) {
         return;
     }
+    OGREnvelope box;
+    geometry->getEnvelope(&box);
+    add(fid, box);
+}
+
+void GpkgIndexBuilder::add(std::int64_t fid, const OGREnvelope& box)
+{
+    if (m_fallback) {
+        return;
+    }
     if (m_entries.size() >= m_max_entries) {
         m_fallback = true;
         std::vector<RtreeEntry>().swap(m_entries);
         return;
     }
-    OGREnvelope box;
-    geometry->getEnvelope(&box);
     m_entries.push_back(rtree_entry(fid, box));
 }
 

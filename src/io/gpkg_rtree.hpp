@@ -65,6 +65,8 @@ public:
     /// A feature written with this FID and geometry (null and empty geometries are not indexed,
     /// as in GDAL's triggers).
     void add(std::int64_t fid, const OGRGeometry* geometry);
+    /// A feature written with this FID whose non-empty geometry has this box.
+    void add(std::int64_t fid, const OGREnvelope& box);
 
     /// Creates the index of `layer` (a table in `dataset`, inside its open transaction): the
     /// R-tree table filled (its rows bound to statements prepared once on GDAL's own SQLite

@@ -108,7 +108,7 @@ OGRPolygon* make_polygon(const Polygon& polygon, bool has_z)
 
 OGRGeometry* make_polygonal(const Geometry& g, bool multi)
 {
-    if (!multi && g.polygons.size() == 1) return make_polygon(g.polygons[0], g.has_z);
+    if (!multi) return make_polygon(g.polygons[0], g.has_z);
     auto* out = new OGRMultiPolygon();
     for (const Polygon& p : g.polygons) out->addGeometryDirectly(make_polygon(p, g.has_z));
     return out;
@@ -116,7 +116,7 @@ OGRGeometry* make_polygonal(const Geometry& g, bool multi)
 
 OGRGeometry* make_lineal(const Geometry& g, bool multi)
 {
-    if (!multi && g.lines.size() == 1) return make_curve(g.lines[0], g.has_z, new OGRLineString());
+    if (!multi) return make_curve(g.lines[0], g.has_z, new OGRLineString());
     auto* out = new OGRMultiLineString();
     for (const Path& l : g.lines) out->addGeometryDirectly(make_curve(l, g.has_z, new OGRLineString()));
     return out;
@@ -149,10 +149,17 @@ GeometryVerdict from_ogr(const OGRGeometry* source, Geometry& out, ReadNotes& no
 OGRGeometry* to_ogr(const Geometry& geometry, OGRwkbGeometryType like)
 {
     if (geometry.empty()) return nullptr;
-    const bool multi = like == wkbMultiPolygon || like == wkbMultiLineString ||
-                       like == wkbMultiSurface || like == wkbMultiCurve;
+    const bool multi = written_multi(geometry, like);
     if (!geometry.polygons.empty()) return make_polygonal(geometry, multi);
     return make_lineal(geometry, multi);
+}
+
+bool written_multi(const Geometry& geometry, OGRwkbGeometryType like)
+{
+    const bool multi_input = like == wkbMultiPolygon || like == wkbMultiLineString ||
+                             like == wkbMultiSurface || like == wkbMultiCurve;
+    const std::size_t parts = geometry.polygons.empty() ? geometry.lines.size() : geometry.polygons.size();
+    return multi_input || parts != 1;
 }
 
 std::size_t count_vertices(const OGRGeometry* geometry)

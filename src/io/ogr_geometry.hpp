@@ -32,6 +32,9 @@ GeometryVerdict from_ogr(const OGRGeometry* source, Geometry& out);
 /// Returns null for an empty result.
 OGRGeometry* to_ogr(const Geometry& geometry, OGRwkbGeometryType like);
 
+/// Whether to_ogr(geometry, like) makes a multi-part geometry (io/gpkg_rows.hpp encodes the same).
+bool written_multi(const Geometry& geometry, OGRwkbGeometryType like);
+
 /// Number of points in any geometry (curves counted as stored); 0 for null.
 std::size_t count_vertices(const OGRGeometry* geometry);
 

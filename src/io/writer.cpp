@@ -151,8 +151,10 @@ void LayerWriter::add_target(GDALDriver& driver, OGRLayer& source, bool renumber
     Target& t = m_targets.emplace_back();
     t.keeps_fids = driver_keeps_fids(driver) && !renumber;
     if (!m_in_place || !take_existing(t, source)) {
-        create_layer(t, source, creation_options(m_options.layer_options, driver, source));
+        const std::vector<std::string> options = creation_options(m_options.layer_options, driver, source);
+        create_layer(t, source, options);
         create_fields(t, *source.GetLayerDefn());
+        open_rows(t, *source.GetLayerDefn(), options);
     }
     t.name = t.layer->GetName();
     t.fidelity = std::make_unique<FieldFidelity>(*source.GetLayerDefn(), *t.layer->GetLayerDefn(), t.field_map,
@@ -276,6 +278,22 @@ void LayerWriter::create_fields(Target& t, const OGRFeatureDefn& source)
     t.orig_fid_field = t.layer->GetLayerDefn()->GetFieldCount() - 1;
 }
 
+// A new GeoPackage layer in a new OUT (not one updated in place: GDAL's transaction there)
+// takes rows where it can.
+void LayerWriter::open_rows(Target& t, const OGRFeatureDefn& source, const std::vector<std::string>& options)
+{
+    if (!m_options.rows || m_in_place || m_streamed) {
+        return;
+    }
+    std::vector<int> source_of(static_cast<std::size_t>(t.layer->GetLayerDefn()->GetFieldCount()), -1);
+    for (std::size_t i = 0; i < t.field_map.size(); ++i) {
+        if (t.field_map[i] >= 0 && static_cast<std::size_t>(t.field_map[i]) < source_of.size()) {
+            source_of[static_cast<std::size_t>(t.field_map[i])] = static_cast<int>(i);
+        }
+    }
+    t.rows = GpkgRows::open(*m_dataset, *t.layer, source, source_of, t.keeps_fids, options, m_options.path);
+}
+
 const char* LayerWriter::outcome() const
 {
     return m_in_place ? "; OUT was left as it was (its transaction rolled back)" : "; nothing was left at OUT";
@@ -343,10 +361,38 @@ std::string LayerWriter::write_lending(std::size_t layer, const OGRFeature& sour
     if (t.index) {
         t.index->add(out->GetFID(), out->GetGeometryRef());
     }
+    if (t.rows) {
+        t.rows->include(out->GetGeometryRef()); // GDAL's extent is overwritten by the rows' (finish)
+    }
     const std::size_t first = m_problems.size();
     t.fidelity->check(source, *out, fid, m_problems);
     for (std::size_t i = first; i < m_problems.size(); ++i) {
         m_problems[i].layer = static_cast<std::uint32_t>(layer);
+    }
+    ++t.written;
+    return "";
+}
+
+// The same accounting as write_lending's, without the OGR feature: the layer's fields have the
+// input's types (GpkgRows::open), so FieldFidelity would find nothing to report.
+std::string LayerWriter::write_row(std::size_t layer, const OGRFeature& source, std::int64_t fid,
+                                   const GpkgGeometry& geometry)
+{
+    Target& t = m_targets[layer];
+    std::int64_t rowid = 0;
+    std::string refused;
+    try {
+        refused = t.rows->insert(source, fid, geometry, rowid);
+    } catch (const io_error&) {
+        throw_if_write_failed(); // a full disk says more than SQLite's complaint about it
+        throw;
+    }
+    throw_if_write_failed();
+    if (!refused.empty()) {
+        return refused;
+    }
+    if (t.index && geometry.boxed) {
+        t.index->add(rowid, geometry.box);
     }
     ++t.written;
     return "";
@@ -384,6 +430,15 @@ void LayerWriter::finish()
     CPLErrorReset();
     ScopedErrorCapture capture;
     for (Target& t : m_targets) {
+        if (t.rows) {
+            try {
+                t.rows->finish(t.written);
+            } catch (const io_error&) {
+                throw_if_write_failed();
+                throw;
+            }
+            t.rows.reset();
+        }
         if (t.index) {
             try {
                 t.index->write(*m_dataset, *t.layer, m_options.path, outcome());

@@ -10,6 +10,7 @@
 #include "core/problems.hpp"
 #include "io/commit_group.hpp"
 #include "io/field_fidelity.hpp"
+#include "io/gpkg_rows.hpp"
 #include "io/gpkg_rtree.hpp"
 #include "io/file_safety.hpp"
 #include "io/temp_files.hpp"
@@ -42,6 +43,9 @@ struct WriteOptions {
     /// A new GeoPackage layer's spatial index is bulk loaded from the features' boxes, kept in
     /// memory (24 bytes each) up to this many; beyond, GDAL builds it (slower, bounded memory).
     std::size_t index_boxes = std::size_t{1} << 26;
+    /// A new GeoPackage layer takes its features as rows encoded by the caller where it can
+    /// (io/gpkg_rows.hpp; rows()); false: every feature through GDAL (tests compare the two).
+    bool rows = true;
     ProtectedFiles protected_files; ///< never replaced (the input's files); checked again at the rename
     /// When set, commit() stages OUT's files in this group instead of renaming them, and the
     /// group's owner renames them together with the report (see commit_group.hpp).
@@ -91,6 +95,11 @@ public:
     /// outcome), so that the thread that made it can free it (app/handoff.hpp).
     std::string write_lending(std::size_t layer, const OGRFeature& source, std::int64_t fid,
                               std::unique_ptr<OGRGeometry>& geometry);
+    /// The layer's rows when its features can go in as GeoPackage rows whose geometry the
+    /// caller encodes (encode_gpkg with rows(layer)->srs_id(), on any thread); null: write().
+    const GpkgRows* rows(std::size_t layer) const { return m_targets[layer].rows.get(); }
+    /// write() for a layer with rows(): input feature `source` (FID `fid`) with `geometry`.
+    std::string write_row(std::size_t layer, const OGRFeature& source, std::int64_t fid, const GpkgGeometry& geometry);
     /// write() to the first (or only) layer.
     std::string write(const OGRFeature& source, std::int64_t fid, OGRGeometry* geometry)
     {
@@ -128,6 +137,8 @@ private:
         std::size_t written = 0;
         /// A new GeoPackage layer's spatial index, written by finish() (io/gpkg_rtree.hpp).
         std::unique_ptr<GpkgIndexBuilder> index;
+        /// A new GeoPackage layer's rows, when it can take them (io/gpkg_rows.hpp).
+        std::unique_ptr<GpkgRows> rows;
     };
 
     void create_dataset(GDALDriver& driver);
@@ -138,6 +149,7 @@ private:
     const char* outcome() const;
     void create_layer(Target& t, OGRLayer& source, std::vector<std::string> options);
     void create_fields(Target& t, const OGRFeatureDefn& source);
+    void open_rows(Target& t, const OGRFeatureDefn& source, const std::vector<std::string>& options);
     void throw_if_write_failed() const;
     [[noreturn]] void fail_finishing(const std::string& gdal_message) const;
     void finish();

@@ -1,0 +1,107 @@
+#pragma once
+// A new GeoPackage layer's rows, inserted through GDAL's own SQLite connection (the one its
+// driver hands out as "SQLITE_HANDLE") with each geometry's blob encoded straight from the
+// engine's result. Through GDAL (OGRGeoPackageTableLayer::ICreateFeature) a snapped feature was
+// made into OGR objects (rings, an output OGRFeature filled from the input's), encoded from them
+// and bound; that per-feature path was ~0.8 s of Andorra x43's 1.2 s write phase, SQLite's own
+// insertion 0.22-0.26 s (bench/results/REPORT.md, "What still caps two threads"), and it ran on
+// the one writing thread. Here the blob is made on the write phase's reading side
+// (app/write_phase.cpp) and the writing thread only binds and steps.
+//
+// The rows are GDAL's: the same values bound to the same columns (FID, geometry, then the
+// fields in the layer's order, unset and null fields as NULL, integers as 64-bit integers, reals
+// as doubles, strings as their text) and the same blob bytes (GPkgGeometryFromOGR: "GP", version
+// 0, a flags byte with the host's byte order, an XY or XYZ envelope (none for points and empty
+// geometries, which set the empty bit), the srs_id, then ISO WKB). After the last row the
+// layer's extent goes into gpkg_contents and its feature count into gpkg_ogr_contents, as GDAL
+// would set them. A file written so differs from one written through GDAL only in the two
+// counters of SQLite's file header that count write transactions (offsets 24 and 92; tests/unit/io
+// compares the rest byte for byte).
+//
+// Only where that holds does a layer take rows (GpkgRows::open): a new table of a declared
+// geometry type (not Unknown: GDAL then edits gpkg_geometry_columns per feature), no field
+// with a default value (GDAL fills unset fields with it), fields of type Integer, Integer64,
+// Real or String with the input's type (so FieldFidelity has nothing to find), none named like
+// the FID column, no TRUNCATE_FIELDS. A geometry GDAL registers an extension for (curves,
+// surfaces, TINs) goes through GDAL; its box still counts in the extent written here.
+#include "core/geometry.hpp"
+
+#include <ogrsf_frmts.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+struct sqlite3;
+struct sqlite3_stmt;
+
+namespace trisnap {
+
+/// A geometry as a GeoPackage blob, with what the layer's extent and index need of it.
+struct GpkgGeometry {
+    std::string blob;    ///< empty: a null geometry
+    OGREnvelope box;     ///< set when `boxed`
+    bool boxed = false;  ///< not null, not empty: counts in the extent and the spatial index
+};
+
+/// The blob GDAL would write for to_ogr(geometry, like) (io/ogr_geometry.hpp): the same bytes,
+/// without the OGR objects. An empty `geometry` gives a null one.
+void encode_gpkg(const Geometry& geometry, OGRwkbGeometryType like, std::int32_t srs_id, GpkgGeometry& out);
+
+/// The blob GDAL would write for `geometry` (null: a null one). False, `out` untouched, for a
+/// geometry GDAL registers a GeoPackage extension for (a curve, surface, polyhedral surface, TIN
+/// or triangle, also inside a collection): that feature goes through GDAL.
+bool encode_gpkg(const OGRGeometry* geometry, std::int32_t srs_id, GpkgGeometry& out);
+
+/// The rows of one new GeoPackage layer. Not thread-safe: the writing thread's.
+class GpkgRows {
+public:
+    /// Rows for `layer` (just created in `dataset`, a GeoPackage), whose field i holds input
+    /// field `source_of[i]` of `input` (-1: the original FID, for `orig_fid`); `keeps_fids`:
+    /// rows take the input FID. Null when the layer cannot take rows (see above) or the dataset
+    /// does not hand out its connection. Throws io_error naming `path` when SQLite refuses the
+    /// statement.
+    static std::unique_ptr<GpkgRows> open(GDALDataset& dataset, OGRLayer& layer, const OGRFeatureDefn& input,
+                                          const std::vector<int>& source_of, bool keeps_fids,
+                                          const std::vector<std::string>& layer_options, const std::string& path);
+    ~GpkgRows();
+    GpkgRows(const GpkgRows&) = delete;
+    GpkgRows& operator=(const GpkgRows&) = delete;
+
+    /// The layer's srs_id, for the blobs' headers.
+    std::int32_t srs_id() const { return m_srs_id; }
+
+    /// Inserts the row of input feature `source` (its FID `fid`) with `geometry`. Returns "" and
+    /// the row's FID in `rowid`, or the reason SQLite refused the row (a constraint: problem 902,
+    /// as GDAL's message says it). Throws io_error when SQLite fails otherwise (the disk).
+    std::string insert(const OGRFeature& source, std::int64_t fid, const GpkgGeometry& geometry, std::int64_t& rowid);
+
+    /// A feature written through GDAL into this layer (its geometry left to GDAL): its box.
+    void include(const OGRGeometry* geometry);
+
+    /// After the last feature (`features` written in all, rows and GDAL's): GDAL's pending
+    /// metadata first (SyncToDisk), then the extent and the feature count. Throws io_error.
+    void finish(std::size_t features);
+
+private:
+    GpkgRows(OGRLayer& layer, sqlite3* db, std::vector<int> source_of, bool keeps_fids,
+             const std::string& path);
+    void include(const OGREnvelope& box);
+    [[noreturn]] void fail(const std::string& what) const;
+    void run(const std::string& sql) const;
+
+    OGRLayer& m_layer;
+    sqlite3* m_db;
+    sqlite3_stmt* m_insert = nullptr;
+    std::vector<int> m_source_of;
+    std::vector<bool> m_text; ///< per field: bound as text (else as a number)
+    std::vector<bool> m_real; ///< per field: bound as a double
+    bool m_keeps_fids;
+    std::string m_path;
+    std::int32_t m_srs_id = 0;
+    OGREnvelope m_extent;
+    bool m_has_extent = false;
+};
+
+} // namespace trisnap

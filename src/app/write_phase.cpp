@@ -130,8 +130,9 @@ struct Ready {
     OGRFeatureUniquePtr f;                ///< the input feature (attributes)
     std::unique_ptr<OGRGeometry> geometry; ///< a feature passed through: its own geometry; null: none
     Geometry stitched;                     ///< a snapped feature: its stitched geometry; empty: none
-    bool as_row = false;                   ///< the geometry is in `row` (`geometry`, `stitched` unused)
-    GpkgGeometry row;                      ///< its GeoPackage blob; empty: none
+    bool as_row = false;                   ///< a GeoPackage row: `values` and `row` (`f`, `geometry`, `stitched` unused)
+    GpkgValues values;                     ///< the row's field values
+    GpkgGeometry row;                      ///< the row's geometry blob; empty: none
     std::vector<Problem> problems;         ///< the stitched feature's
     std::size_t vertices = 0;              ///< of the geometry held (the handoff's weight)
     std::size_t weight() const { return vertices; } ///< what it holds in memory (app/handoff.hpp)
@@ -236,8 +237,10 @@ void Preparer::prepare(Ready& r)
     if (r.e.verdict == RecordEntry::pass) {
         r.geometry.reset(r.f->StealGeometry());
         if (rows != nullptr && encode_gpkg(r.geometry.get(), rows->srs_id(), r.row)) {
+            rows->take(*r.f, r.e.fid, r.values);
             r.as_row = true;
             r.geometry.reset();
+            r.f.reset();
             r.vertices = blob_vertices(r.row);
             return;
         }
@@ -253,6 +256,8 @@ void Preparer::prepare(Ready& r)
     if (rows != nullptr) {
         encode_gpkg(m_item.output.geometry, static_cast<OGRwkbGeometryType>(r.e.type), rows->srs_id(), r.row);
         m_item.output.geometry = {};
+        rows->take(*r.f, r.e.fid, r.values);
+        r.f.reset();
         r.as_row = true;
         r.vertices = blob_vertices(r.row);
         return;
@@ -275,7 +280,7 @@ public:
 
 private:
     void write(std::uint32_t k, std::int64_t fid, OGRFeature& f, std::unique_ptr<OGRGeometry>& geometry);
-    void write_row(std::uint32_t k, std::int64_t fid, const OGRFeature& f, const GpkgGeometry& row);
+    void write_row(std::uint32_t k, const GpkgValues& values, const GpkgGeometry& row);
     void account(std::uint32_t k, std::int64_t fid, const std::string& error);
     void vanished(std::uint32_t k, const RecordEntry& e, bool reported, bool rejected);
 
@@ -293,9 +298,9 @@ void Writer::write(std::uint32_t k, std::int64_t fid, OGRFeature& f, std::unique
     account(k, fid, m_writer.write_lending(k, f, fid, geometry));
 }
 
-void Writer::write_row(std::uint32_t k, std::int64_t fid, const OGRFeature& f, const GpkgGeometry& row)
+void Writer::write_row(std::uint32_t k, const GpkgValues& values, const GpkgGeometry& row)
 {
-    account(k, fid, m_writer.write_row(k, f, fid, row));
+    account(k, values.fid, m_writer.write_row(k, values, row));
 }
 
 // A feature handed to OUT's writer: refused (`error`: problem 902), or written with the values
@@ -338,7 +343,7 @@ void Writer::feature(Ready& r)
     }
     if (e.verdict == RecordEntry::pass) {
         if (r.as_row) {
-            write_row(k, e.fid, *r.f, r.row);
+            write_row(k, r.values, r.row);
         } else {
             write(k, e.fid, *r.f, r.geometry);
         }
@@ -356,7 +361,7 @@ void Writer::feature(Ready& r)
         return;
     }
     if (r.as_row) {
-        write_row(k, e.fid, *r.f, r.row);
+        write_row(k, r.values, r.row);
         return;
     }
     std::unique_ptr<OGRGeometry> g(to_ogr(r.stitched, static_cast<OGRwkbGeometryType>(e.type)));

@@ -358,9 +358,45 @@ void GpkgRows::fail(const std::string& what) const
     throw io_error(m_path, m_layer.GetName(), "cannot write: " + what);
 }
 
-std::string GpkgRows::insert(const OGRFeature& source, std::int64_t fid, const GpkgGeometry& geometry,
-                             std::int64_t& rowid)
+void GpkgRows::take(const OGRFeature& source, std::int64_t fid, GpkgValues& out) const
 {
+    out.values.resize(m_source_of.size());
+    out.texts.clear();
+    out.fid = fid;
+    for (std::size_t i = 0; i < m_source_of.size(); ++i) {
+        GpkgValues::Value& v = out.values[i];
+        const int from = m_source_of[i];
+        if (from < 0) { // orig_fid
+            v.kind = GpkgValues::Kind::integer;
+            v.integer = fid;
+        } else if (!source.IsFieldSetAndNotNull(from)) {
+            v.kind = GpkgValues::Kind::null;
+        } else if (m_text[i]) {
+            const char* text = source.GetFieldAsString(from);
+            v.kind = GpkgValues::Kind::text;
+            v.at = static_cast<std::uint32_t>(out.texts.size());
+            v.size = static_cast<std::uint32_t>(std::strlen(text));
+            out.texts.append(text, v.size);
+        } else if (m_real[i]) {
+            v.kind = GpkgValues::Kind::real;
+            v.real = source.GetFieldAsDouble(from);
+        } else {
+            v.kind = GpkgValues::Kind::integer;
+            v.integer = source.GetFieldAsInteger64(from);
+        }
+    }
+}
+
+std::string GpkgRows::insert(const GpkgValues& values, const GpkgGeometry& geometry, std::int64_t& rowid)
+{
+    // The connection's mutex held once for the row: each call below would take and give it back
+    // (SQLite's serialized mode), 10 % of the writing thread's samples; nested, it is a count.
+    sqlite3_mutex* const mutex = sqlite3_db_mutex(m_db);
+    sqlite3_mutex_enter(mutex);
+    struct Leave {
+        sqlite3_mutex* m;
+        ~Leave() { sqlite3_mutex_leave(m); }
+    } leave{mutex};
     int at = 1;
     int rc = SQLITE_OK;
     const auto bound = [&](int result) {
@@ -369,27 +405,26 @@ std::string GpkgRows::insert(const OGRFeature& source, std::int64_t fid, const G
         }
     };
     if (m_keeps_fids) {
-        bound(sqlite3_bind_int64(m_insert, at++, fid));
+        bound(sqlite3_bind_int64(m_insert, at++, values.fid));
     }
     if (geometry.blob.empty()) {
         bound(sqlite3_bind_null(m_insert, at++));
     } else {
         bound(sqlite3_bind_blob(m_insert, at++, geometry.blob.data(), static_cast<int>(geometry.blob.size()), SQLITE_STATIC));
     }
-    for (std::size_t i = 0; i < m_source_of.size(); ++i, ++at) {
-        const int from = m_source_of[i];
-        if (from < 0) {
-            bound(sqlite3_bind_int64(m_insert, at, fid)); // orig_fid
-        } else if (!source.IsFieldSetAndNotNull(from)) {
-            bound(sqlite3_bind_null(m_insert, at));
-        } else if (m_text[i]) {
-            const char* text = source.GetFieldAsString(from);
-            bound(sqlite3_bind_text(m_insert, at, text, static_cast<int>(std::strlen(text)), SQLITE_STATIC));
-        } else if (m_real[i]) {
-            bound(sqlite3_bind_double(m_insert, at, source.GetFieldAsDouble(from)));
-        } else {
-            bound(sqlite3_bind_int64(m_insert, at, source.GetFieldAsInteger64(from)));
+    if (values.values.size() != m_source_of.size()) {
+        fail("a row with " + std::to_string(values.values.size()) + " values for " + std::to_string(m_source_of.size()) + " fields");
+    }
+    for (const GpkgValues::Value& v : values.values) {
+        switch (v.kind) {
+        case GpkgValues::Kind::null: bound(sqlite3_bind_null(m_insert, at)); break;
+        case GpkgValues::Kind::integer: bound(sqlite3_bind_int64(m_insert, at, v.integer)); break;
+        case GpkgValues::Kind::real: bound(sqlite3_bind_double(m_insert, at, v.real)); break;
+        case GpkgValues::Kind::text:
+            bound(sqlite3_bind_text(m_insert, at, values.texts.data() + v.at, static_cast<int>(v.size), SQLITE_STATIC));
+            break;
         }
+        ++at;
     }
     if (rc == SQLITE_OK) {
         rc = sqlite3_step(m_insert);

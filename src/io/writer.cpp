@@ -375,14 +375,13 @@ std::string LayerWriter::write_lending(std::size_t layer, const OGRFeature& sour
 
 // The same accounting as write_lending's, without the OGR feature: the layer's fields have the
 // input's types (GpkgRows::open), so FieldFidelity would find nothing to report.
-std::string LayerWriter::write_row(std::size_t layer, const OGRFeature& source, std::int64_t fid,
-                                   const GpkgGeometry& geometry)
+std::string LayerWriter::write_row(std::size_t layer, const GpkgValues& values, const GpkgGeometry& geometry)
 {
     Target& t = m_targets[layer];
     std::int64_t rowid = 0;
     std::string refused;
     try {
-        refused = t.rows->insert(source, fid, geometry, rowid);
+        refused = t.rows->insert(values, geometry, rowid);
     } catch (const io_error&) {
         throw_if_write_failed(); // a full disk says more than SQLite's complaint about it
         throw;

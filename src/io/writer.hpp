@@ -98,8 +98,9 @@ public:
     /// The layer's rows when its features can go in as GeoPackage rows whose geometry the
     /// caller encodes (encode_gpkg with rows(layer)->srs_id(), on any thread); null: write().
     const GpkgRows* rows(std::size_t layer) const { return m_targets[layer].rows.get(); }
-    /// write() for a layer with rows(): input feature `source` (FID `fid`) with `geometry`.
-    std::string write_row(std::size_t layer, const OGRFeature& source, std::int64_t fid, const GpkgGeometry& geometry);
+    /// write() for a layer with rows(): an input feature's values (rows(layer)->take()) with
+    /// `geometry`.
+    std::string write_row(std::size_t layer, const GpkgValues& values, const GpkgGeometry& geometry);
     /// write() to the first (or only) layer.
     std::string write(const OGRFeature& source, std::int64_t fid, OGRGeometry* geometry)
     {

@@ -202,14 +202,18 @@ void write_items(const std::string& path, OGRwkbGeometryType type, const std::ve
         if (const auto* g = std::get_if<Geometry>(&item.geometry)) {
             if (r != nullptr) {
                 encode_gpkg(*g, item.like, r->srs_id(), blob);
-                error = writer.write_row(0, f, item.fid, blob);
+                GpkgValues values;
+                r->take(f, item.fid, values);
+                error = writer.write_row(0, values, blob);
             } else {
                 error = writer.write(0, f, item.fid, to_ogr(*g, item.like));
             }
         } else {
             const auto& o = std::get<std::shared_ptr<OGRGeometry>>(item.geometry);
             if (r != nullptr && encode_gpkg(o.get(), r->srs_id(), blob)) {
-                error = writer.write_row(0, f, item.fid, blob);
+                GpkgValues values;
+                r->take(f, item.fid, values);
+                error = writer.write_row(0, values, blob);
             } else {
                 error = writer.write(0, f, item.fid, o ? o->clone() : nullptr);
             }
@@ -390,7 +394,11 @@ TEST(GpkgRows, ARefusedRowIsReportedAsGdalReportsIt)
             if (rows == 1) {
                 encode_gpkg(g, wkbPolygon, writer.rows(0)->srs_id(), blob);
             }
-            const std::string error = rows == 1 ? writer.write_row(0, f, 5, blob) : writer.write(0, f, 5, to_ogr(g, wkbPolygon));
+            GpkgValues values;
+            if (rows == 1) {
+                writer.rows(0)->take(f, 5, values);
+            }
+            const std::string error = rows == 1 ? writer.write_row(0, values, blob) : writer.write(0, f, 5, to_ogr(g, wkbPolygon));
             if (i == 0) {
                 ASSERT_EQ(error, "");
             } else {

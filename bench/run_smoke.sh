@@ -9,6 +9,7 @@
 #    bench/results/compare_smoke.json (< 60 s); fails when a tool fails or the table lacks a key;
 #  - bench_handoff once on the same sample (bench/results/handoff_smoke.json, < 1 s);
 #  - bench/threads --quick: one and two threads end to end on the same sample (< 2 s);
+#  - bench_write on Andorra, GeoPackage rows and GDAL's path, one iteration each (< 5 s);
 # Fails when a binary is missing, when a run fails, or when a benchmark reports an error other
 # than an absent data set.
 #   BENCH_ENGINE=path BENCH_PIPELINE=path BENCH_COMPARE_TOOLS=path bench/run_smoke.sh   (default: newest of build/{bench,release,dev})
@@ -158,6 +159,15 @@ if bad:
     sys.exit(1)
 print(f"run_smoke: ok, {len(setups)} setups in {sys.argv[1]}")
 PY
+
+# OUT's writer alone: GeoPackage rows against GDAL's per-feature path, one iteration each (fails
+# when a feature is refused, the count differs or the rows path was not taken).
+write_bench="$(find_binary bench_write "${BENCH_WRITE:-}")"
+out="$root/bench/results/write_smoke.json"
+timeout 120 "$write_bench" --benchmark_filter='Write/(rows|gdal)/andorra' --benchmark_min_time=0.01 \
+  --benchmark_format=console --benchmark_out="$out" --benchmark_out_format=json \
+  || { echo "run_smoke: bench_write failed (exit $?)" >&2; exit 1; }
+check_results "$out"
 
 # trisnap against GEOS per feature and the read + CDT + write floor, one run on Andorra.
 if [[ -f "$andorra" ]]; then

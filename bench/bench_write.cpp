@@ -1,0 +1,148 @@
+// OUT's writer alone (io/writer.hpp), on one thread: a real layer's features, converted to the
+// engine's geometries once before timing, written to a new GeoPackage as the write phase writes
+// snapped features: `Write/rows/<layer>` as GeoPackage rows (io/gpkg_rows.hpp: the values taken,
+// the blob encoded, the row inserted), `Write/gdal/<layer>` through GDAL (to_ogr, an OGRFeature,
+// CreateFeature). Both include the commit (the spatial index, the close). Fails when a feature
+// is refused or the file's count differs; skips with "data set absent" without ../shared/data.
+// bench/README.md, "The writer".
+#include "io/gpkg_rows.hpp"
+#include "io/ogr_geometry.hpp"
+#include "io/writer.hpp"
+#include "test_data.hpp"
+
+#include <benchmark/benchmark.h>
+#include <gdal_priv.h>
+#include <ogrsf_frmts.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+namespace trisnap {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Layer {
+    const char* name;
+    const char* relative;
+    const char* layer;
+};
+
+constexpr Layer layers[] = {
+    {"andorra", "snapoly_andorra/andorra.gpkg", "andorra"},
+    {"jakarta", "osm_buildings_mvt_boston_jakarta/jakarta_buildings_z13.gpkg", "building"},
+};
+
+/// The layer read once: its features (attributes) and their engine geometries.
+struct Input {
+    GDALDatasetUniquePtr dataset;
+    OGRLayer* layer = nullptr;
+    std::vector<OGRFeatureUniquePtr> features;
+    std::vector<Geometry> geometries;
+    std::vector<OGRwkbGeometryType> types;
+    std::size_t vertices = 0;
+};
+
+std::unique_ptr<Input> read_input(const std::string& path, const char* name)
+{
+    auto in = std::make_unique<Input>();
+    in->dataset.reset(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr, nullptr, nullptr));
+    in->layer = in->dataset ? in->dataset->GetLayerByName(name) : nullptr;
+    if (in->layer == nullptr) {
+        return nullptr;
+    }
+    for (auto& f : *in->layer) {
+        Geometry g;
+        if (from_ogr(f->GetGeometryRef(), g) != GeometryVerdict::snap) {
+            continue;
+        }
+        in->vertices += static_cast<std::size_t>(count_vertices(f->GetGeometryRef()));
+        in->types.push_back(wkbFlatten(f->GetGeometryRef()->getGeometryType()));
+        f->SetGeometryDirectly(nullptr);
+        in->geometries.push_back(std::move(g));
+        in->features.emplace_back(f.release());
+    }
+    return in;
+}
+
+void BM_Write(benchmark::State& state, const Layer& layer, bool rows)
+{
+    GDALAllRegister();
+    const auto path = shared_data(layer.relative);
+    if (!path) {
+        state.SkipWithError(("data set absent: " + std::string(layer.relative)).c_str());
+        return;
+    }
+    const std::unique_ptr<Input> in = read_input(*path, layer.layer);
+    if (!in) {
+        state.SkipWithError("cannot read the layer");
+        return;
+    }
+    const fs::path dir = fs::temp_directory_path() / ("trisnap-bench-write-" + std::to_string(getpid()));
+    fs::create_directories(dir);
+    const std::string out = (dir / "out.gpkg").string();
+    bool took_rows = false;
+    for (auto _ : state) {
+        fs::remove(out);
+        WriteOptions options;
+        options.path = out;
+        options.rows = rows;
+        LayerWriter writer(options, *in->layer);
+        writer.expect(0, in->features.size());
+        const GpkgRows* r = writer.rows(0);
+        took_rows = r != nullptr;
+        GpkgGeometry blob;
+        GpkgValues values;
+        for (std::size_t i = 0; i < in->features.size(); ++i) {
+            const OGRFeature& f = *in->features[i];
+            std::string error;
+            if (r != nullptr) {
+                r->take(f, f.GetFID(), values);
+                encode_gpkg(in->geometries[i], in->types[i], r->srs_id(), blob);
+                error = writer.write_row(0, values, blob);
+            } else {
+                error = writer.write(0, f, f.GetFID(), to_ogr(in->geometries[i], in->types[i]));
+            }
+            if (!error.empty()) {
+                state.SkipWithError(("feature refused: " + error).c_str());
+                fs::remove_all(dir);
+                return;
+            }
+        }
+        writer.commit();
+    }
+    GDALDatasetUniquePtr check(GDALDataset::Open(out.c_str(), GDAL_OF_VECTOR, nullptr, nullptr, nullptr));
+    const GIntBig written = check ? check->GetLayer(0)->GetFeatureCount() : -1;
+    check.reset();
+    fs::remove_all(dir);
+    if (written != static_cast<GIntBig>(in->features.size()) || took_rows != rows) {
+        state.SkipWithError(("wrote " + std::to_string(written) + " of " + std::to_string(in->features.size()) +
+                             (took_rows != rows ? "; the rows path was not the one asked for" : ""))
+                                .c_str());
+        return;
+    }
+    state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * in->features.size()));
+    state.counters["features"] = static_cast<double>(in->features.size());
+    state.counters["vertices"] = static_cast<double>(in->vertices);
+}
+
+[[maybe_unused]] const bool registered = [] {
+    for (const Layer& layer : layers) {
+        for (const bool rows : {true, false}) {
+            benchmark::RegisterBenchmark((std::string("Write/") + (rows ? "rows/" : "gdal/") + layer.name).c_str(),
+                                         [&layer, rows](benchmark::State& s) { BM_Write(s, layer, rows); })
+                ->Unit(benchmark::kMillisecond)
+                ->UseRealTime();
+        }
+    }
+    return true;
+}();
+
+} // namespace
+} // namespace trisnap
+
+BENCHMARK_MAIN();

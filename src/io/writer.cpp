@@ -291,7 +291,12 @@ void LayerWriter::open_rows(Target& t, const OGRFeatureDefn& source, const std::
             source_of[static_cast<std::size_t>(t.field_map[i])] = static_cast<int>(i);
         }
     }
-    t.rows = GpkgRows::open(*m_dataset, *t.layer, source, source_of, t.keeps_fids, options, m_options.path);
+    try {
+        t.rows = GpkgRows::open(*m_dataset, *t.layer, source, source_of, t.keeps_fids, options, m_options.path);
+    } catch (const io_error&) {
+        throw_if_write_failed(); // the table is created here: a full disk says more than SQLite
+        throw;
+    }
 }
 
 const char* LayerWriter::outcome() const

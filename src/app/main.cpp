@@ -7,6 +7,7 @@
 #include "app/command.hpp"
 #include "app/suggest.hpp"
 #include "config/errors.hpp"
+#include "io/gpkg_rows.hpp"
 #include "io/io_error.hpp"
 #include "app/exit_status.hpp"
 #include "app/options.hpp"
@@ -73,6 +74,7 @@ std::string footer_of(const std::string& command)
 int main(int argc, char** argv)
 {
     trisnap::keep_freed_memory();
+    trisnap::sqlite_without_memory_statistics(); // before GDAL opens anything (io/gpkg_rows.hpp)
     trisnap::Arguments arguments;
     try {
         arguments = trisnap::normalise_arguments(argc, argv);

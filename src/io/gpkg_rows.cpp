@@ -167,6 +167,11 @@ std::string option_value(const std::vector<std::string>& options, const std::str
 
 } // namespace
 
+bool sqlite_without_memory_statistics()
+{
+    return sqlite3_config(SQLITE_CONFIG_MEMSTATUS, 0) == SQLITE_OK;
+}
+
 void encode_gpkg(const Geometry& geometry, OGRwkbGeometryType like, std::int32_t srs_id, GpkgGeometry& out)
 {
     out.blob.clear();

@@ -103,7 +103,7 @@ void BM_Write(benchmark::State& state, const Layer& layer, bool rows)
             if (r != nullptr) {
                 r->take(f, f.GetFID(), values);
                 encode_gpkg(in->geometries[i], in->types[i], r->srs_id(), blob);
-                error = writer.write_row(0, values, blob);
+                writer.write_row(0, values, blob);
             } else {
                 error = writer.write(0, f, f.GetFID(), to_ogr(in->geometries[i], in->types[i]));
             }
@@ -114,6 +114,11 @@ void BM_Write(benchmark::State& state, const Layer& layer, bool rows)
             }
         }
         writer.commit();
+        if (const auto refused = writer.take_refusals(); !refused.empty()) {
+            state.SkipWithError(("feature refused: " + refused.front().message).c_str());
+            fs::remove_all(dir);
+            return;
+        }
     }
     GDALDatasetUniquePtr check(GDALDataset::Open(out.c_str(), GDAL_OF_VECTOR, nullptr, nullptr, nullptr));
     const GIntBig written = check ? check->GetLayer(0)->GetFeatureCount() : -1;

@@ -277,6 +277,8 @@ public:
     /// Features written so far, in all layers.
     std::size_t written() const { return m_writer.written(); }
     void feature(Ready& r);
+    /// Accounts the rows OUT's writer refused since the last call.
+    void refusals();
 
 private:
     void write(std::uint32_t k, std::int64_t fid, OGRFeature& f, std::unique_ptr<OGRGeometry>& geometry);
@@ -298,9 +300,19 @@ void Writer::write(std::uint32_t k, std::int64_t fid, OGRFeature& f, std::unique
     account(k, fid, m_writer.write_lending(k, f, fid, geometry));
 }
 
+// A row goes in with its batch: the refusals of earlier rows may come back now (problem 902 is
+// sorted into place with the others: app/problem_log.hpp).
 void Writer::write_row(std::uint32_t k, const GpkgValues& values, const GpkgGeometry& row)
 {
-    account(k, values.fid, m_writer.write_row(k, values, row));
+    m_writer.write_row(k, values, row);
+    refusals();
+}
+
+void Writer::refusals()
+{
+    for (LayerWriter::Refusal& r : m_writer.take_refusals()) {
+        account(static_cast<std::uint32_t>(r.layer), r.fid, r.message);
+    }
 }
 
 // A feature handed to OUT's writer: refused (`error`: problem 902), or written with the values
@@ -404,6 +416,8 @@ void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerge
                         w.feature(r);
                         progress.update(static_cast<std::int64_t>(w.written()));
                     });
+    writer.flush_rows(); // the last batch of rows
+    w.refusals();
     progress.finish(static_cast<std::int64_t>(w.written()));
     interrupt.check();
     // Before OUT is committed: nothing goes into place. Features of failed tiles (303) are not

@@ -271,7 +271,8 @@ bool encode_gpkg(const OGRGeometry* geometry, std::int32_t srs_id, GpkgGeometry&
 
 std::unique_ptr<GpkgRows> GpkgRows::open(GDALDataset& dataset, OGRLayer& layer, const OGRFeatureDefn& input,
                                          const std::vector<int>& source_of, bool keeps_fids,
-                                         const std::vector<std::string>& layer_options, const std::string& path)
+                                         const std::vector<std::string>& layer_options, const std::string& path,
+                                         GpkgIndexBuilder* index)
 {
     const OGRwkbGeometryType type = wkbFlatten(layer.GetGeomType());
     const OGRFeatureDefn& defn = *layer.GetLayerDefn();
@@ -300,12 +301,12 @@ std::unique_ptr<GpkgRows> GpkgRows::open(GDALDataset& dataset, OGRLayer& layer, 
         return nullptr;
     }
     layer.ResetReading(); // GDAL creates the table (deferred until now), without its count triggers
-    return std::unique_ptr<GpkgRows>(new GpkgRows(layer, db, source_of, keeps_fids, path));
+    return std::unique_ptr<GpkgRows>(new GpkgRows(layer, db, source_of, keeps_fids, path, index));
 }
 
 GpkgRows::GpkgRows(OGRLayer& layer, sqlite3* db, std::vector<int> source_of, bool keeps_fids,
-                   const std::string& path)
-    : m_layer(layer), m_db(db), m_source_of(std::move(source_of)), m_keeps_fids(keeps_fids), m_path(path)
+                   const std::string& path, GpkgIndexBuilder* index)
+    : m_layer(layer), m_db(db), m_index(index), m_source_of(std::move(source_of)), m_keeps_fids(keeps_fids), m_path(path)
 {
     const OGRFeatureDefn& defn = *layer.GetLayerDefn();
     {
@@ -325,37 +326,54 @@ GpkgRows::GpkgRows(OGRLayer& layer, sqlite3* db, std::vector<int> source_of, boo
             fail("the layer is not in gpkg_geometry_columns");
         }
     }
-    // GDAL's statement (FeatureGenerateInsertSQL): the FID when given, the geometry, every field.
-    std::string columns;
-    std::string values;
-    const auto add = [&](const std::string& name) {
-        columns += (columns.empty() ? "" : ", ") + name;
-        values += values.empty() ? "?" : ", ?";
-    };
+    for (int i = 0; i < defn.GetFieldCount(); ++i) {
+        m_text.push_back(text_field(defn.GetFieldDefn(i)->GetType()));
+        m_real.push_back(defn.GetFieldDefn(i)->GetType() == OFTReal);
+    }
+    m_insert = prepare(1);
+    m_batch = prepare(k_batch);
+}
+
+// GDAL's statement (FeatureGenerateInsertSQL: the FID when given, the geometry, every field),
+// with `rows` lists of values.
+sqlite3_stmt* GpkgRows::prepare(std::size_t rows) const
+{
+    const OGRFeatureDefn& defn = *m_layer.GetLayerDefn();
     const auto quoted = [](const char* name) {
         char* q = sqlite3_mprintf("\"%w\"", name);
         std::string s(q);
         sqlite3_free(q);
         return s;
     };
+    std::string columns;
+    std::string values;
+    const auto add = [&](const std::string& name) {
+        columns += (columns.empty() ? "" : ", ") + name;
+        values += values.empty() ? "?" : ", ?";
+    };
     if (m_keeps_fids) {
-        add(quoted(layer.GetFIDColumn()));
+        add(quoted(m_layer.GetFIDColumn()));
     }
-    add(quoted(layer.GetGeometryColumn()));
+    add(quoted(m_layer.GetGeometryColumn()));
     for (int i = 0; i < defn.GetFieldCount(); ++i) {
         add(quoted(defn.GetFieldDefn(i)->GetNameRef()));
-        m_text.push_back(text_field(defn.GetFieldDefn(i)->GetType()));
-        m_real.push_back(defn.GetFieldDefn(i)->GetType() == OFTReal);
     }
-    const std::string sql = "INSERT INTO " + quoted(layer.GetName()) + " ( " + columns + ") VALUES (" + values + ")";
-    if (sqlite3_prepare_v2(m_db, sql.c_str(), static_cast<int>(sql.size()), &m_insert, nullptr) != SQLITE_OK) {
+    std::string sql = "INSERT INTO " + quoted(m_layer.GetName()) + " ( " + columns + ") VALUES ";
+    for (std::size_t r = 0; r < rows; ++r) {
+        sql += (r == 0 ? "(" : ", (") + values + ")";
+    }
+    sqlite3_stmt* statement = nullptr;
+    if (sqlite3_prepare_v2(m_db, sql.c_str(), static_cast<int>(sql.size()), &statement, nullptr) != SQLITE_OK) {
+        sqlite3_finalize(statement);
         fail(sqlite3_errmsg(m_db));
     }
+    return statement;
 }
 
 GpkgRows::~GpkgRows()
 {
     sqlite3_finalize(m_insert);
+    sqlite3_finalize(m_batch);
 }
 
 void GpkgRows::fail(const std::string& what) const
@@ -392,17 +410,67 @@ void GpkgRows::take(const OGRFeature& source, std::int64_t fid, GpkgValues& out)
     }
 }
 
-std::string GpkgRows::insert(const GpkgValues& values, const GpkgGeometry& geometry, std::int64_t& rowid)
+void GpkgRows::insert(const GpkgValues& values, const GpkgGeometry& geometry)
 {
-    // The connection's mutex held once for the row: each call below would take and give it back
-    // (SQLite's serialized mode), 10 % of the writing thread's samples; nested, it is a count.
+    if (values.values.size() != m_source_of.size()) {
+        fail("a row with " + std::to_string(values.values.size()) + " values for " + std::to_string(m_source_of.size()) + " fields");
+    }
+    Queued& row = m_queue.emplace_back();
+    row.fid = values.fid;
+    row.blob_at = m_bytes.size();
+    row.blob_size = geometry.blob.size();
+    m_bytes += geometry.blob;
+    row.values_at = m_values.size();
+    for (GpkgValues::Value v : values.values) {
+        if (v.kind == GpkgValues::Kind::text) {
+            const std::size_t at = m_bytes.size();
+            m_bytes.append(values.texts, v.at, v.size);
+            v.at = static_cast<std::uint32_t>(at);
+        }
+        m_values.push_back(v);
+    }
+    row.box = geometry.box;
+    row.boxed = geometry.boxed;
+    if (m_queue.size() == k_batch) {
+        flush();
+    }
+}
+
+void GpkgRows::flush()
+{
+    if (m_queue.empty()) {
+        return;
+    }
+    // The connection's mutex held once: each call below would take and give it back (SQLite's
+    // serialized mode); nested, it is a count.
     sqlite3_mutex* const mutex = sqlite3_db_mutex(m_db);
     sqlite3_mutex_enter(mutex);
     struct Leave {
         sqlite3_mutex* m;
         ~Leave() { sqlite3_mutex_leave(m); }
     } leave{mutex};
-    int at = 1;
+    struct Clear { // queued rows are gone after this, inserted or not
+        GpkgRows& r;
+        ~Clear()
+        {
+            r.m_queue.clear();
+            r.m_bytes.clear();
+            r.m_values.clear();
+        }
+    } clear{*this};
+    if (m_queue.size() == k_batch && m_bytes.size() <= k_batch_bytes) {
+        run_batch();
+        return;
+    }
+    for (const Queued& row : m_queue) {
+        run_one(row);
+    }
+}
+
+// Binds `row` from parameter `at` on; returns the first failing bind's code (else SQLITE_OK).
+// Blobs and texts are bound SQLITE_STATIC: m_bytes does not change until the statement ran.
+int GpkgRows::bind(sqlite3_stmt* statement, int at, const Queued& row) const
+{
     int rc = SQLITE_OK;
     const auto bound = [&](int result) {
         if (rc == SQLITE_OK) {
@@ -410,45 +478,95 @@ std::string GpkgRows::insert(const GpkgValues& values, const GpkgGeometry& geome
         }
     };
     if (m_keeps_fids) {
-        bound(sqlite3_bind_int64(m_insert, at++, values.fid));
+        bound(sqlite3_bind_int64(statement, at++, row.fid));
     }
-    if (geometry.blob.empty()) {
-        bound(sqlite3_bind_null(m_insert, at++));
+    if (row.blob_size == 0) {
+        bound(sqlite3_bind_null(statement, at++));
     } else {
-        bound(sqlite3_bind_blob(m_insert, at++, geometry.blob.data(), static_cast<int>(geometry.blob.size()), SQLITE_STATIC));
+        bound(sqlite3_bind_blob(statement, at++, m_bytes.data() + row.blob_at, static_cast<int>(row.blob_size), SQLITE_STATIC));
     }
-    if (values.values.size() != m_source_of.size()) {
-        fail("a row with " + std::to_string(values.values.size()) + " values for " + std::to_string(m_source_of.size()) + " fields");
-    }
-    for (const GpkgValues::Value& v : values.values) {
+    for (std::size_t i = 0; i < m_source_of.size(); ++i, ++at) {
+        const GpkgValues::Value& v = m_values[row.values_at + i];
         switch (v.kind) {
-        case GpkgValues::Kind::null: bound(sqlite3_bind_null(m_insert, at)); break;
-        case GpkgValues::Kind::integer: bound(sqlite3_bind_int64(m_insert, at, v.integer)); break;
-        case GpkgValues::Kind::real: bound(sqlite3_bind_double(m_insert, at, v.real)); break;
+        case GpkgValues::Kind::null: bound(sqlite3_bind_null(statement, at)); break;
+        case GpkgValues::Kind::integer: bound(sqlite3_bind_int64(statement, at, v.integer)); break;
+        case GpkgValues::Kind::real: bound(sqlite3_bind_double(statement, at, v.real)); break;
         case GpkgValues::Kind::text:
-            bound(sqlite3_bind_text(m_insert, at, values.texts.data() + v.at, static_cast<int>(v.size), SQLITE_STATIC));
+            bound(sqlite3_bind_text(statement, at, m_bytes.data() + v.at, static_cast<int>(v.size), SQLITE_STATIC));
             break;
         }
-        ++at;
     }
-    if (rc == SQLITE_OK) {
-        rc = sqlite3_step(m_insert);
+    return rc;
+}
+
+namespace {
+
+/// Runs a statement with its values bound; SQLITE_DONE on success. Leaves it ready again.
+int step(sqlite3_stmt* statement, int bound)
+{
+    const int rc = bound == SQLITE_OK ? sqlite3_step(statement) : bound;
+    sqlite3_reset(statement);
+    sqlite3_clear_bindings(statement);
+    return rc;
+}
+
+/// A row SQLite refuses for its values (GDAL reports those per feature and goes on), not for
+/// the file.
+bool refusal(int rc)
+{
+    const int primary = rc & 0xff;
+    return primary == SQLITE_CONSTRAINT || primary == SQLITE_MISMATCH || primary == SQLITE_TOOBIG;
+}
+
+} // namespace
+
+void GpkgRows::run_batch()
+{
+    const int per_row = static_cast<int>(m_source_of.size()) + (m_keeps_fids ? 2 : 1);
+    int bound = SQLITE_OK;
+    for (std::size_t r = 0; r < m_queue.size() && bound == SQLITE_OK; ++r) {
+        bound = bind(m_batch, 1 + static_cast<int>(r) * per_row, m_queue[r]);
     }
-    sqlite3_reset(m_insert);
-    sqlite3_clear_bindings(m_insert); // the blob and texts are the caller's, gone after this
-    if (rc != SQLITE_DONE) {
-        const std::string message = sqlite3_errmsg(m_db);
-        const int primary = rc & 0xff;
-        if (primary == SQLITE_CONSTRAINT || primary == SQLITE_MISMATCH || primary == SQLITE_TOOBIG) {
-            return "failed to execute insert : " + message; // GDAL's words for a row it could not insert
+    const int rc = step(m_batch, bound);
+    if (rc == SQLITE_DONE) {
+        // Without FIDs given, AUTOINCREMENT numbers the statement's rows one after the other.
+        const std::int64_t last = sqlite3_last_insert_rowid(m_db);
+        for (std::size_t r = 0; r < m_queue.size(); ++r) {
+            inserted(m_queue[r], m_keeps_fids ? m_queue[r].fid
+                                             : last - static_cast<std::int64_t>(m_queue.size() - 1 - r));
         }
-        fail(message);
+        return;
     }
-    rowid = sqlite3_last_insert_rowid(m_db);
-    if (geometry.boxed) {
-        include(geometry.box);
+    if (!refusal(rc)) {
+        fail(sqlite3_errmsg(m_db));
     }
-    return "";
+    for (const Queued& row : m_queue) { // SQLite undid the statement: each row alone
+        run_one(row);
+    }
+}
+
+void GpkgRows::run_one(const Queued& row)
+{
+    const int rc = step(m_insert, bind(m_insert, 1, row));
+    if (rc == SQLITE_DONE) {
+        inserted(row, sqlite3_last_insert_rowid(m_db));
+        return;
+    }
+    if (!refusal(rc)) {
+        fail(sqlite3_errmsg(m_db));
+    }
+    m_refusals.push_back({row.fid, std::string("failed to execute insert : ") + sqlite3_errmsg(m_db)}); // GDAL's words
+}
+
+void GpkgRows::inserted(const Queued& row, std::int64_t rowid)
+{
+    ++m_inserted;
+    if (row.boxed) {
+        include(row.box);
+        if (m_index != nullptr) {
+            m_index->add(rowid, row.box);
+        }
+    }
 }
 
 void GpkgRows::include(const OGRGeometry* geometry)

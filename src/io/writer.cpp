@@ -292,7 +292,8 @@ void LayerWriter::open_rows(Target& t, const OGRFeatureDefn& source, const std::
         }
     }
     try {
-        t.rows = GpkgRows::open(*m_dataset, *t.layer, source, source_of, t.keeps_fids, options, m_options.path);
+        t.rows = GpkgRows::open(*m_dataset, *t.layer, source, source_of, t.keeps_fids, options, m_options.path,
+                                t.index.get());
     } catch (const io_error&) {
         throw_if_write_failed(); // the table is created here: a full disk says more than SQLite
         throw;
@@ -337,6 +338,9 @@ std::string LayerWriter::write_lending(std::size_t layer, const OGRFeature& sour
                                        std::unique_ptr<OGRGeometry>& geometry)
 {
     Target& t = m_targets[layer];
+    if (t.rows) {
+        flush_rows(t); // the rows queued before this feature go in before it
+    }
     ScopedErrorCapture capture;
     OGRFeatureUniquePtr out(OGRFeature::CreateFeature(t.layer->GetLayerDefn()));
     out->SetFieldsFrom(&source, t.field_map.data(), TRUE);
@@ -379,27 +383,56 @@ std::string LayerWriter::write_lending(std::size_t layer, const OGRFeature& sour
 }
 
 // The same accounting as write_lending's, without the OGR feature: the layer's fields have the
-// input's types (GpkgRows::open), so FieldFidelity would find nothing to report.
-std::string LayerWriter::write_row(std::size_t layer, const GpkgValues& values, const GpkgGeometry& geometry)
+// input's types (GpkgRows::open), so FieldFidelity would find nothing to report. The index and
+// the count take the row when its batch went in.
+void LayerWriter::write_row(std::size_t layer, const GpkgValues& values, const GpkgGeometry& geometry)
 {
     Target& t = m_targets[layer];
-    std::int64_t rowid = 0;
-    std::string refused;
     try {
-        refused = t.rows->insert(values, geometry, rowid);
+        t.rows->insert(values, geometry);
     } catch (const io_error&) {
         throw_if_write_failed(); // a full disk says more than SQLite's complaint about it
         throw;
     }
     throw_if_write_failed();
-    if (!refused.empty()) {
-        return refused;
+    for (GpkgRows::Refusal& r : t.rows->take_refusals()) {
+        m_refusals.push_back({layer, r.fid, std::move(r.message)});
     }
-    if (t.index && geometry.boxed) {
-        t.index->add(rowid, geometry.box);
+}
+
+void LayerWriter::flush_rows(Target& t)
+{
+    try {
+        t.rows->flush();
+    } catch (const io_error&) {
+        throw_if_write_failed();
+        throw;
     }
-    ++t.written;
-    return "";
+    throw_if_write_failed();
+    const auto layer = static_cast<std::size_t>(&t - m_targets.data());
+    for (GpkgRows::Refusal& r : t.rows->take_refusals()) {
+        m_refusals.push_back({layer, r.fid, std::move(r.message)});
+    }
+}
+
+void LayerWriter::flush_rows()
+{
+    for (Target& t : m_targets) {
+        if (t.rows) {
+            flush_rows(t);
+        }
+    }
+}
+
+std::vector<LayerWriter::Refusal> LayerWriter::take_refusals()
+{
+    return std::exchange(m_refusals, {});
+}
+
+std::size_t LayerWriter::written(std::size_t layer) const
+{
+    const Target& t = m_targets[layer];
+    return t.written + (t.rows ? t.rows->inserted() : 0);
 }
 
 std::vector<Problem> LayerWriter::take_problems()
@@ -422,8 +455,8 @@ std::vector<std::string> LayerWriter::warnings() const
 std::size_t LayerWriter::written() const
 {
     std::size_t n = 0;
-    for (const Target& t : m_targets) {
-        n += t.written;
+    for (std::size_t k = 0; k < m_targets.size(); ++k) {
+        n += written(k);
     }
     return n;
 }
@@ -435,12 +468,14 @@ void LayerWriter::finish()
     ScopedErrorCapture capture;
     for (Target& t : m_targets) {
         if (t.rows) {
+            flush_rows(t);
             try {
-                t.rows->finish(t.written);
+                t.rows->finish(written(static_cast<std::size_t>(&t - m_targets.data())));
             } catch (const io_error&) {
                 throw_if_write_failed();
                 throw;
             }
+            t.written += t.rows->inserted();
             t.rows.reset();
         }
         if (t.index) {

@@ -99,8 +99,20 @@ public:
     /// caller encodes (encode_gpkg with rows(layer)->srs_id(), on any thread); null: write().
     const GpkgRows* rows(std::size_t layer) const { return m_targets[layer].rows.get(); }
     /// write() for a layer with rows(): an input feature's values (rows(layer)->take()) with
-    /// `geometry`.
-    std::string write_row(std::size_t layer, const GpkgValues& values, const GpkgGeometry& geometry);
+    /// `geometry`. Rows go in by batches (GpkgRows::k_batch): a row SQLite refuses is reported
+    /// by take_refusals() once its batch ran, at the latest after flush_rows() or commit().
+    /// Throws io_error as write().
+    void write_row(std::size_t layer, const GpkgValues& values, const GpkgGeometry& geometry);
+    /// Inserts every queued row. Throws io_error as write().
+    void flush_rows();
+    /// A feature SQLite refused as a row (problem 902): its layer, input FID and GDAL's message.
+    struct Refusal {
+        std::size_t layer = 0;
+        std::int64_t fid = 0;
+        std::string message;
+    };
+    /// The refusals found since the last call, in input order within a layer.
+    std::vector<Refusal> take_refusals();
     /// write() to the first (or only) layer.
     std::string write(const OGRFeature& source, std::int64_t fid, OGRGeometry* geometry)
     {
@@ -124,7 +136,7 @@ public:
 
     const std::string& driver_name() const { return m_driver_name; }
     std::size_t written() const;                    ///< in all layers
-    std::size_t written(std::size_t layer) const { return m_targets[layer].written; }
+    std::size_t written(std::size_t layer) const;
 
 private:
     /// One output layer and what it takes to write a source layer's features into it.
@@ -135,7 +147,7 @@ private:
         std::unique_ptr<FieldFidelity> fidelity;
         int orig_fid_field = -1;
         bool keeps_fids = false;
-        std::size_t written = 0;
+        std::size_t written = 0; ///< through GDAL, and the rows once the layer is finished
         /// A new GeoPackage layer's spatial index, written by finish() (io/gpkg_rtree.hpp).
         std::unique_ptr<GpkgIndexBuilder> index;
         /// A new GeoPackage layer's rows, when it can take them (io/gpkg_rows.hpp).
@@ -151,6 +163,7 @@ private:
     void create_layer(Target& t, OGRLayer& source, std::vector<std::string> options);
     void create_fields(Target& t, const OGRFeatureDefn& source);
     void open_rows(Target& t, const OGRFeatureDefn& source, const std::vector<std::string>& options);
+    void flush_rows(Target& t);
     void throw_if_write_failed() const;
     [[noreturn]] void fail_finishing(const std::string& gdal_message) const;
     void finish();
@@ -166,6 +179,7 @@ private:
     std::vector<Target> m_targets;  ///< one per source layer, in order
     std::string m_driver_name;
     std::vector<Problem> m_problems;
+    std::vector<Refusal> m_refusals; ///< rows refused, not yet taken
     bool m_in_transaction = false;
     bool m_committed = false;
 };

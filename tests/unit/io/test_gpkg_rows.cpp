@@ -204,7 +204,7 @@ void write_items(const std::string& path, OGRwkbGeometryType type, const std::ve
                 encode_gpkg(*g, item.like, r->srs_id(), blob);
                 GpkgValues values;
                 r->take(f, item.fid, values);
-                error = writer.write_row(0, values, blob);
+                writer.write_row(0, values, blob);
             } else {
                 error = writer.write(0, f, item.fid, to_ogr(*g, item.like));
             }
@@ -213,7 +213,7 @@ void write_items(const std::string& path, OGRwkbGeometryType type, const std::ve
             if (r != nullptr && encode_gpkg(o.get(), r->srs_id(), blob)) {
                 GpkgValues values;
                 r->take(f, item.fid, values);
-                error = writer.write_row(0, values, blob);
+                writer.write_row(0, values, blob);
             } else {
                 error = writer.write(0, f, item.fid, o ? o->clone() : nullptr);
             }
@@ -221,6 +221,8 @@ void write_items(const std::string& path, OGRwkbGeometryType type, const std::ve
         ASSERT_EQ(error, "") << "FID " << item.fid;
     }
     writer.commit();
+    EXPECT_TRUE(writer.take_refusals().empty());
+    EXPECT_EQ(writer.written(), items.size());
 }
 
 std::string bytes_of(const std::string& path)
@@ -376,41 +378,84 @@ TEST(GpkgRows, NotForLayersGdalWritesOtherwise)
     expect_no_rows(wkbCurvePolygon, {}, {});
 }
 
+/// Writes `fids` (square polygons) one way; returns what was refused (FID: message), the count
+/// written, and the rows as text.
+struct Written {
+    std::vector<std::pair<std::int64_t, std::string>> refused;
+    std::size_t written = 0;
+    std::string rows;
+};
+
+Written write_fids(const std::string& path, const std::vector<std::int64_t>& fids, bool rows)
+{
+    Written w;
+    Source s = memory_source(wkbPolygon, usual_fields());
+    WriteOptions options;
+    options.path = path;
+    options.rows = rows;
+    LayerWriter writer(options, *s.layer);
+    EXPECT_EQ(writer.rows(0) != nullptr, rows);
+    OGRFeature f(s.layer->GetLayerDefn());
+    for (const std::int64_t fid : fids) {
+        fill(f, fid);
+        const double x = static_cast<double>(fid % 97);
+        const Geometry g = polygons(false, {Polygon{{ring({{x, 0, 0}, {x + 1, 0, 0}, {x + 1, 1, 0}})}}});
+        if (rows) {
+            GpkgGeometry blob;
+            GpkgValues values;
+            encode_gpkg(g, wkbPolygon, writer.rows(0)->srs_id(), blob);
+            writer.rows(0)->take(f, fid, values);
+            writer.write_row(0, values, blob);
+        } else if (std::string error = writer.write(0, f, fid, to_ogr(g, wkbPolygon)); !error.empty()) {
+            w.refused.emplace_back(fid, error);
+        }
+    }
+    if (rows) {
+        writer.flush_rows();
+        for (const LayerWriter::Refusal& r : writer.take_refusals()) {
+            EXPECT_EQ(r.layer, 0u);
+            w.refused.emplace_back(r.fid, r.message);
+        }
+    }
+    w.written = writer.written();
+    writer.commit();
+    EXPECT_TRUE(writer.take_refusals().empty()) << "all of them taken before the commit";
+    w.rows = query(path, "SELECT fid, hex(geom), n, big, r, s, flag FROM parcels ORDER BY fid");
+    return w;
+}
+
 TEST(GpkgRows, ARefusedRowIsReportedAsGdalReportsIt)
 {
-    std::string said[2];
-    for (int rows = 0; rows < 2; ++rows) {
-        test::ScratchDir dir;
-        Source s = memory_source(wkbPolygon, usual_fields());
-        WriteOptions options;
-        options.path = (dir.path() / "o.gpkg").string();
-        options.rows = rows == 1;
-        LayerWriter writer(options, *s.layer);
-        ASSERT_EQ(writer.rows(0) != nullptr, rows == 1);
-        OGRFeature f(s.layer->GetLayerDefn());
-        const Geometry g = polygons(false, {Polygon{{ring({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}})}}});
-        for (int i = 0; i < 2; ++i) { // the same FID twice: the primary key refuses the second
-            GpkgGeometry blob;
-            if (rows == 1) {
-                encode_gpkg(g, wkbPolygon, writer.rows(0)->srs_id(), blob);
-            }
-            GpkgValues values;
-            if (rows == 1) {
-                writer.rows(0)->take(f, 5, values);
-            }
-            const std::string error = rows == 1 ? writer.write_row(0, values, blob) : writer.write(0, f, 5, to_ogr(g, wkbPolygon));
-            if (i == 0) {
-                ASSERT_EQ(error, "");
-            } else {
-                said[rows] = error;
-            }
-        }
-        EXPECT_EQ(writer.written(), 1u);
-        writer.commit();
-        EXPECT_EQ(query(options.path, "SELECT feature_count FROM gpkg_ogr_contents"), "1;");
+    // FID 5 twice: the primary key refuses the second, alone in its (short) batch.
+    test::ScratchDir dir;
+    const Written gdal = write_fids((dir.path() / "g.gpkg").string(), {5, 5}, false);
+    const Written rows = write_fids((dir.path() / "r.gpkg").string(), {5, 5}, true);
+    ASSERT_EQ(gdal.refused.size(), 1u);
+    EXPECT_NE(gdal.refused[0].second, "");
+    EXPECT_EQ(rows.refused, gdal.refused);
+    EXPECT_EQ(rows.written, 1u);
+    EXPECT_EQ(query((dir.path() / "r.gpkg").string(), "SELECT feature_count FROM gpkg_ogr_contents"), "1;");
+}
+
+TEST(GpkgRows, ARefusedRowInAFullBatchLeavesTheOthersIn)
+{
+    // 50 features, FID 20 repeated as the 30th: the second batch of 16 is refused as a whole,
+    // then goes in row by row; the other 49 are written, in order, as GDAL writes them.
+    std::vector<std::int64_t> fids;
+    for (std::int64_t i = 0; i < 50; ++i) {
+        fids.push_back(i == 29 ? 20 : i + 1);
     }
-    EXPECT_NE(said[0], "");
-    EXPECT_EQ(said[1], said[0]);
+    test::ScratchDir dir;
+    const Written gdal = write_fids((dir.path() / "g.gpkg").string(), fids, false);
+    const Written rows = write_fids((dir.path() / "r.gpkg").string(), fids, true);
+    ASSERT_EQ(gdal.refused.size(), 1u);
+    EXPECT_EQ(gdal.refused[0].first, 20);
+    EXPECT_EQ(rows.refused, gdal.refused);
+    EXPECT_EQ(rows.written, 49u);
+    EXPECT_EQ(gdal.written, 49u);
+    EXPECT_EQ(rows.rows, gdal.rows);
+    EXPECT_EQ(query((dir.path() / "r.gpkg").string(), "SELECT feature_count FROM gpkg_ogr_contents"), "49;");
+    EXPECT_EQ(query((dir.path() / "r.gpkg").string(), "SELECT count(*) FROM rtree_parcels_geom"), "49;");
 }
 
 } // namespace

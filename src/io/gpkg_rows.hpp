@@ -6,7 +6,8 @@
 // and bound; that per-feature path was ~0.8 s of Andorra x43's 1.2 s write phase, SQLite's own
 // insertion 0.22-0.26 s (bench/results/REPORT.md, "What still caps two threads"), and it ran on
 // the one writing thread. Here the blob is made on the write phase's reading side
-// (app/write_phase.cpp) and the writing thread only binds and steps.
+// (app/write_phase.cpp) and the writing thread only binds and steps, sixteen rows to a
+// statement (GpkgRows::k_batch).
 //
 // The rows are GDAL's: the same values bound to the same columns (FID, geometry, then the
 // fields in the layer's order, unset and null fields as NULL, integers as 64-bit integers, reals
@@ -45,7 +46,8 @@ namespace trisnap {
 /// write phase's writing thread spent in pthread_mutex_lock on Jakarta, perf). Off: the writer
 /// alone 2-4 % faster (bench_write's rows, 3 rounds of 5); end to end within the noise (Jakarta
 /// at 2 threads, write phase medians 0.24 -> 0.20 s over 8 interleaved pairs, 0.23 both over 6
-/// more). Nothing in trisnap or GDAL's GeoPackage driver reads those statistics. Only before
+/// more). Nothing in trisnap or GDAL reads those statistics (libgdal imports neither
+/// sqlite3_memory_used nor sqlite3_status). Only before
 /// SQLite's first use (main() calls it first thing); false when it is too late.
 bool sqlite_without_memory_statistics();
 

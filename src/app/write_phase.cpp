@@ -386,7 +386,10 @@ void Writer::feature(Ready& r)
 /// REPORT.md, "A writer thread"): the write phase -10 % on Jakarta buildings (5 vertices a
 /// feature), -7 % on Andorra x43 (7.7), +26 % on Natural Earth land (39: each big geometry is made on
 /// one core and encoded on the other). Reading beside the spool was tried too and gained nothing
-/// (the same section).
+/// (the same section). With GeoPackage rows (2026-12-01) the writing side is cheap and the
+/// handover's cost decides: it still pays on Andorra x43 (write phase medians ~1.0 against
+/// ~1.2 s) and lost on Jakarta (0.25 against 0.20 s) in one stretch of the VM (REPORT.md,
+/// "GeoPackage rows"); left as it is.
 bool writer_thread_pays(const Plan& plan, const RunResult& result)
 {
     constexpr std::size_t k_most_vertices_per_feature = 16;

@@ -15,9 +15,11 @@
 // 0, a flags byte with the host's byte order, an XY or XYZ envelope (none for points and empty
 // geometries, which set the empty bit), the srs_id, then ISO WKB). After the last row the
 // layer's extent goes into gpkg_contents and its feature count into gpkg_ogr_contents, as GDAL
-// would set them. A file written so differs from one written through GDAL only in the two
-// counters of SQLite's file header that count write transactions (offsets 24 and 92; tests/unit/io
-// compares the rest byte for byte).
+// would set them. A file of one layer written so differs from one written through GDAL only in
+// the two counters of SQLite's file header that count write transactions (offsets 24 and 92;
+// tests/unit/io compares the rest byte for byte). With several layers in one file the tables are
+// created up front (GDAL creates each at its first feature), so the pages are laid out
+// otherwise; the rows, extents and counts are GDAL's (tested).
 //
 // Only where that holds does a layer take rows (GpkgRows::open): a new table of a declared
 // geometry type (not Unknown: GDAL then edits gpkg_geometry_columns per feature), no field

@@ -458,5 +458,63 @@ TEST(GpkgRows, ARefusedRowInAFullBatchLeavesTheOthersIn)
     EXPECT_EQ(query((dir.path() / "r.gpkg").string(), "SELECT count(*) FROM rtree_parcels_geom"), "49;");
 }
 
+TEST(GpkgRows, SeveralLayersInOneFileHoldGdalsRows)
+{
+    // Two layers into one OUT, written one after the other as the write phase does. Their tables
+    // are created up front (GDAL creates the second at its first feature), so the pages are laid
+    // out otherwise: the rows, extents and counts are GDAL's.
+    std::string dumps[2];
+    test::ScratchDir dir;
+    for (int rows = 0; rows < 2; ++rows) {
+        GDALAllRegister();
+        GDALDatasetUniquePtr memory(GetGDALDriverManager()->GetDriverByName("Memory")->Create("", 0, 0, 0, GDT_Unknown, nullptr));
+        std::vector<OGRLayer*> sources;
+        for (const char* name : {"parcels", "roads"}) {
+            OGRLayer* l = memory->CreateLayer(name, nullptr, wkbPolygon, nullptr);
+            for (const Field& f : usual_fields()) {
+                OGRFieldDefn d(f.name, f.type);
+                d.SetWidth(f.width);
+                d.SetSubType(f.subtype);
+                l->CreateField(&d);
+            }
+            sources.push_back(l);
+        }
+        WriteOptions options;
+        options.path = (dir.path() / (rows ? "r.gpkg" : "g.gpkg")).string();
+        options.rows = rows == 1;
+        LayerWriter writer(options, sources);
+        for (std::size_t k = 0; k < 2; ++k) {
+            ASSERT_EQ(writer.rows(k) != nullptr, rows == 1);
+            OGRFeature f(sources[k]->GetLayerDefn());
+            for (std::int64_t fid = 1; fid <= 37; ++fid) {
+                fill(f, fid);
+                const double x = static_cast<double>(fid) + 100.0 * static_cast<double>(k);
+                const Geometry g = polygons(false, {Polygon{{ring({{x, 0, 0}, {x + 1, 0, 0}, {x + 1, 1, 0}})}}});
+                if (rows == 1) {
+                    GpkgGeometry blob;
+                    GpkgValues values;
+                    encode_gpkg(g, wkbPolygon, writer.rows(k)->srs_id(), blob);
+                    writer.rows(k)->take(f, fid, values);
+                    writer.write_row(k, values, blob);
+                } else {
+                    ASSERT_EQ(writer.write(k, f, fid, to_ogr(g, wkbPolygon)), "");
+                }
+            }
+        }
+        writer.commit();
+        EXPECT_TRUE(writer.take_refusals().empty());
+        EXPECT_EQ(writer.written(0), 37u);
+        EXPECT_EQ(writer.written(1), 37u);
+        for (const char* table : {"parcels", "roads"}) {
+            dumps[rows] += query(options.path, std::string("SELECT fid, hex(geom), n, big, r, s, flag FROM ") + table + " ORDER BY fid");
+        }
+        dumps[rows] += query(options.path, "SELECT table_name, min_x, min_y, max_x, max_y FROM gpkg_contents ORDER BY table_name");
+        dumps[rows] += query(options.path, "SELECT * FROM gpkg_ogr_contents ORDER BY table_name");
+        dumps[rows] += query(options.path, "SELECT count(*) FROM rtree_roads_geom");
+    }
+    EXPECT_NE(dumps[0].find("roads|37;"), std::string::npos) << dumps[0];
+    EXPECT_EQ(dumps[1], dumps[0]);
+}
+
 } // namespace
 } // namespace trisnap

@@ -431,8 +431,8 @@ void GpkgRows::insert(const GpkgValues& values, const GpkgGeometry& geometry)
     }
     row.box = geometry.box;
     row.boxed = geometry.boxed;
-    if (m_queue.size() == k_batch) {
-        flush();
+    if (m_queue.size() == k_batch || m_bytes.size() > k_batch_bytes) {
+        flush(); // a heavy row goes in with the few before it, one by one: the queue stays small
     }
 }
 

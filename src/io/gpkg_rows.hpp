@@ -118,7 +118,8 @@ public:
     /// one transaction: 140 ms one to a statement, 84 ms sixteen; 74 and 65 ms without
     /// AUTOINCREMENT). A batch SQLite refuses (a constraint) is undone by SQLite and its rows go
     /// in one at a time, so only the refused ones are left out. Batches weigh at most
-    /// k_batch_bytes (a statement's journal stays in memory); heavier rows go in one by one.
+    /// k_batch_bytes (a statement's journal stays in memory); once the queue weighs more, its
+    /// rows go in one by one (the queue holds at most that and one row).
     static constexpr std::size_t k_batch = 16;
     static constexpr std::size_t k_batch_bytes = std::size_t{1} << 15;
 

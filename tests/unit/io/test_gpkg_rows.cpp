@@ -138,6 +138,14 @@ std::vector<Item> polygonal_items(bool z)
     items.push_back({1, polygons(z, {zeros}), wkbPolygon});
     items.push_back({2, polygons(z, {zeros, zeros2}), wkbMultiPolygon});
     items.push_back({3, polygons(z, {zeros2, zeros}), wkbMultiPolygon});
+    {   // a heavy row (3,000 vertices, ~48 KB): the queue goes in row by row (GpkgRows::k_batch_bytes)
+        std::vector<std::array<double, 3>> circle;
+        for (int i = 0; i < 3000; ++i) {
+            const double a = 2 * M_PI * i / 3000;
+            circle.push_back({700 + 50 * std::cos(a), 700 + 50 * std::sin(a), z ? 1.0 * i : k_nan});
+        }
+        items.push_back({13, polygons(z, {Polygon{{ring(circle)}}}), wkbPolygon});
+    }
     items.push_back({4, Geometry{}, wkbPolygon}); // vanished: not written by the write phase; here a null geometry
     items.push_back({5, wkt("POINT (3 4)"), wkbPoint});
     items.push_back({6, wkt("POLYGON EMPTY"), wkbPolygon});

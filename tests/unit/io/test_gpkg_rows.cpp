@@ -45,21 +45,28 @@ struct Field {
     const char* default_value = nullptr;
 };
 
-Source memory_source(OGRwkbGeometryType type, const std::vector<Field>& fields)
+/// A layer `name` of `type` (EPSG:28992) with `fields`, in `dataset`.
+OGRLayer* add_layer(GDALDataset& dataset, const char* name, OGRwkbGeometryType type, const std::vector<Field>& fields)
 {
-    GDALAllRegister();
-    Source s;
-    s.dataset.reset(GetGDALDriverManager()->GetDriverByName("Memory")->Create("", 0, 0, 0, GDT_Unknown, nullptr));
     OGRSpatialReference srs;
     srs.importFromEPSG(28992);
-    s.layer = s.dataset->CreateLayer("parcels", &srs, type, nullptr);
+    OGRLayer* layer = dataset.CreateLayer(name, &srs, type, nullptr);
     for (const Field& f : fields) {
         OGRFieldDefn d(f.name, f.type);
         d.SetWidth(f.width);
         d.SetSubType(f.subtype);
         d.SetDefault(f.default_value);
-        s.layer->CreateField(&d);
+        layer->CreateField(&d);
     }
+    return layer;
+}
+
+Source memory_source(OGRwkbGeometryType type, const std::vector<Field>& fields)
+{
+    GDALAllRegister();
+    Source s;
+    s.dataset.reset(GetGDALDriverManager()->GetDriverByName("Memory")->Create("", 0, 0, 0, GDT_Unknown, nullptr));
+    s.layer = add_layer(*s.dataset, "parcels", type, fields);
     return s;
 }
 
@@ -478,14 +485,7 @@ TEST(GpkgRows, SeveralLayersInOneFileHoldGdalsRows)
         GDALDatasetUniquePtr memory(GetGDALDriverManager()->GetDriverByName("Memory")->Create("", 0, 0, 0, GDT_Unknown, nullptr));
         std::vector<OGRLayer*> sources;
         for (const char* name : {"parcels", "roads"}) {
-            OGRLayer* l = memory->CreateLayer(name, nullptr, wkbPolygon, nullptr);
-            for (const Field& f : usual_fields()) {
-                OGRFieldDefn d(f.name, f.type);
-                d.SetWidth(f.width);
-                d.SetSubType(f.subtype);
-                l->CreateField(&d);
-            }
-            sources.push_back(l);
+            sources.push_back(add_layer(*memory, name, wkbPolygon, usual_fields()));
         }
         WriteOptions options;
         options.path = (dir.path() / (rows ? "r.gpkg" : "g.gpkg")).string();

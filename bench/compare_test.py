@@ -4,7 +4,9 @@ table has every tool and that the measurements can fail:
  - CGAL ISR at pixel T keeps what Halperin & Packer promise (vertices >= T apart, vertex-edge >= T/2);
  - plain SR on the same layer leaves a vertex closer than T/2 to an edge (about 0.2 T): the same
    measurement, reporting a violation, so the ISR check is not vacuous;
- - trisnap keeps its contract, 0 crossings, 0 invalid.
+ - trisnap keeps its contract, 0 crossings, 0 invalid;
+ - bench/report --render-only writes REPORT.md from that table and keeps the hand-written sections
+   below its KEEP_MARK line as they were.
 The layer: three overlapping triangles (GeoJSON, T = 1) whose edges pass near the others' vertices;
 found by searching random triangles for an SR violation, then frozen here.
 
@@ -64,9 +66,35 @@ def main(trisnap, runner, workdir):
     check(ts.get("n_crossings") == 0 and ts.get("n_invalid") == 0, "trisnap crossings/invalid not 0")
     check(abs(report["pixel"] - 1.0) < EPS, f"pixel {report['pixel']} != T")
     check("trisnap/isr" in report["ratios"] and "trisnap/geos" in report["ratios"], "ratios missing")
+    check_render(out_json, workdir, check)
     for f in failures:
         print(f"FAIL: {f}", file=sys.stderr)
     return 1 if failures else 0
+
+
+def check_render(out_json, workdir, check):
+    """bench/report --render-only on this table (as Andorra's at 10 cm): the generated part is new, the
+    hand-written part below the mark stays byte for byte, and a report without the mark gets none."""
+    sys.path.insert(0, HERE)
+    mark = [l for l in open(os.path.join(HERE, "report")) if l.startswith("KEEP_MARK = ")][0].split("=", 1)[1].strip().strip('"')
+    results = os.path.join(workdir, "results")
+    os.makedirs(results, exist_ok=True)
+    with open(out_json) as f, open(os.path.join(results, "compare_andorra_10cm.json"), "w") as g:
+        g.write(f.read())
+    tail = "## Hand-written\n\nA table that no run makes.\n\n| a | b |\n|---|---|\n| 1 | 2 |\n"
+    with open(os.path.join(results, "REPORT.md"), "w") as f:
+        f.write("# an old generated part\n\nstale\n\n" + mark + "\n" + tail)
+    cmd = [sys.executable, os.path.join(HERE, "report"), "--render-only", "--datasets", "andorra",
+           "--tolerances", "0.1", "--results", results]
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    check(p.returncode == 0, f"bench/report --render-only exit {p.returncode}: {p.stderr.strip()}")
+    text = open(os.path.join(results, "REPORT.md")).read()
+    check("stale" not in text and "## Headline" in text, "report: the generated part was not rewritten")
+    check(text.endswith("\n" + mark + "\n" + tail), "report: the hand-written part was not kept as it was")
+    os.remove(os.path.join(results, "REPORT.md"))
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    text = open(os.path.join(results, "REPORT.md")).read() if p.returncode == 0 else ""
+    check(p.returncode == 0 and "## Headline" in text and mark not in text, "report: a fresh report is wrong")
 
 
 if __name__ == "__main__":

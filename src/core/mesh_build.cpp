@@ -12,6 +12,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <stdexcept>
 #include <tuple>
 
 namespace trisnap::detail {
@@ -36,6 +37,11 @@ std::vector<InputPoint> gather_points(const std::vector<CleanFeature>& features,
     for (const CleanFeature& cf : features) {
         for (const CleanRing& r : cf.rings) n += r.points.size();
         for (const auto& l : cf.lines) n += l.size();
+    }
+    // Vertex ids and owner features are 32-bit (Owner keeps a feature in 31 bits); crossings
+    // take ids after the input points, so leave them room.
+    if (n >= (std::size_t{1} << 31) || features.size() >= (std::size_t{1} << 31)) {
+        throw std::length_error("more than 2^31 input points or features in one triangulation: split the layer in tiles");
     }
     std::vector<InputPoint> pts;
     pts.reserve(n);
@@ -222,7 +228,7 @@ void Mesh::insert_constraints(const std::vector<CleanFeature>& features, const s
             for (std::size_t i = 0; i < edges; ++i) {
                 const std::uint32_t from = ids[base + i];
                 const std::uint32_t to = ids[base + (i + 1) % n];
-                m_owners.push_back(Owner{f, from, to, line});
+                m_owners.push_back(Owner{f, line, from, to});
                 const OwnerRef ref{static_cast<std::uint32_t>(m_owners.size() - 1), true};
                 insert_segment(m_vertices[from].handle, m_vertices[to].handle, std::span(&ref, 1));
                 if (meter && (++edges_done & 255) == 0) meter->advance(edges_done, total_edges);

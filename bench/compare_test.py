@@ -66,6 +66,7 @@ def main(trisnap, runner, workdir):
     check(ts.get("n_crossings") == 0 and ts.get("n_invalid") == 0, "trisnap crossings/invalid not 0")
     check(abs(report["pixel"] - 1.0) < EPS, f"pixel {report['pixel']} != T")
     check("trisnap/isr" in report["ratios"] and "trisnap/geos" in report["ratios"], "ratios missing")
+    check(bool(report.get("commit")), "the run's commit is not recorded")
     check_render(out_json, workdir, check)
     for f in failures:
         print(f"FAIL: {f}", file=sys.stderr)
@@ -90,6 +91,7 @@ def check_render(out_json, workdir, check):
     check(p.returncode == 0, f"bench/report --render-only exit {p.returncode}: {p.stderr.strip()}")
     text = open(os.path.join(results, "REPORT.md")).read()
     check("stale" not in text and "## Headline" in text, "report: the generated part was not rewritten")
+    check(f"commit {json.load(open(out_json))['commit']}," in text, "report: the runs' commit is not in the header")
     check(text.endswith("\n" + mark + "\n" + tail), "report: the hand-written part was not kept as it was")
     os.remove(os.path.join(results, "REPORT.md"))
     p = subprocess.run(cmd, capture_output=True, text=True)

@@ -22,8 +22,8 @@ namespace trisnap::detail {
 
 /// Who an input edge belongs to: `from` and `to` are the vertex ids of its ends when the
 /// triangulation was built (input points, whose records keep them; follow merges with
-/// Mesh::current()). One per input edge: 12 bytes (the flag in the feature's top bit: an engine
-/// run holds far fewer than 2^31 features, each of which has at least one input point).
+/// Mesh::current()). One per input edge: 12 bytes (the flag in the feature's top bit: the build
+/// refuses 2^31 features or input points and more, a length_error before anything is made).
 struct Owner {
     std::uint32_t feature : 31 = 0;
     std::uint32_t line : 1 = 0;

@@ -37,7 +37,8 @@ void for_candidate_pairs(const PolygonIndex& index, bool positive_area, Fn&& fn)
     });
 }
 
-/// Area of the intersection of two polygon features through OGR (GEOS), and its centroid.
+/// Area of the intersection of two polygon features through OGR (GEOS), and its centroid; the same
+/// for (a, b) and (b, a): GEOS gets the lower FID first.
 double intersection_area(const LayerData& d, const Feature& fa, const Feature& fb, Pt* where);
 
 /// The intersection area of polygon features i and j: 0 at once when the exact boundary test

@@ -58,6 +58,31 @@ TEST(AssessDefects, OverlapOfKnownArea)
     EXPECT_TRUE(r.overlaps[0].is_new);
 }
 
+// Two Jakarta buildings (FIDs 46507 and 46510 of jakarta_buildings_z13) where a vertex of one
+// lies within an ulp of the other's edge: GEOS's intersection of the pair gave 6.9e-18 m2 in one
+// operand order and 0 in the other, and the layer judged against itself had a "new" overlap (the
+// output's pair and the input's pair were passed in opposite orders). Whatever order the features
+// come in, a layer against itself has no new overlap, and the pair's verdict is the same.
+TEST(AssessDefects, ALayerAgainstItselfHasNoNewOverlap)
+{
+    const std::string a = "POLYGON((11895733.477665441 -708079.1888339975,11895739.449308274 -708067.2455483279,"
+                          "11895747.809608243 -708072.0228625957,11895741.837965408 -708082.7718196983,"
+                          "11895733.477665441 -708079.1888339975))";
+    const std::string b = "POLYGON((11895732.283336874 -708067.2455483279,11895737.060651142 -708054.1079340914,"
+                          "11895743.032293975 -708055.3022626583,11895738.25497971 -708069.6342054618,"
+                          "11895732.283336874 -708067.2455483279))";
+    std::vector<std::int64_t> overlaps;
+    for (const std::vector<Item>& items : {std::vector<Item>{{46507, a}, {46510, b}}, std::vector<Item>{{46510, b}, {46507, a}},
+                                           std::vector<Item>{{2, b}, {1, a}}, std::vector<Item>{{1, a}, {2, b}}}) {
+        const AssessReport r = assess_items(items, items, 0.01);
+        EXPECT_EQ(r.n_overlaps_new, 0) << items[0].fid << ", " << items[1].fid;
+        EXPECT_EQ(r.n_invalid, 0);
+        overlaps.push_back(r.n_overlaps);
+    }
+    EXPECT_EQ(overlaps[0], overlaps[1]) << "the same pair, listed in the other order";
+    EXPECT_EQ(overlaps[2], overlaps[3]) << "the same, with other FIDs";
+}
+
 TEST(AssessDefects, NestedPolygonWithoutBoundaryContactOverlaps)
 {
     const std::vector<Item> out{{1, square(0, 0, 10)}, {2, square(2, 2, 3)}};

@@ -19,7 +19,9 @@
 // the two counters of SQLite's file header that count write transactions (offsets 24 and 92;
 // tests/unit/io compares the rest byte for byte). With several layers in one file the tables are
 // created up front (GDAL creates each at its first feature), so the pages are laid out
-// otherwise; the rows, extents and counts are GDAL's (tested).
+// otherwise; the rows, extents and counts are GDAL's (tested). For the same reason a layer's
+// queued rows need not go in before another layer's features: each table gets its own rows in
+// their order whenever its queue is flushed.
 //
 // Only where that holds does a layer take rows (GpkgRows::open): a new table of a declared
 // geometry type (not Unknown: GDAL then edits gpkg_geometry_columns per feature), no field

@@ -338,7 +338,6 @@ std::string LayerWriter::write_lending(std::size_t layer, const OGRFeature& sour
                                        std::unique_ptr<OGRGeometry>& geometry)
 {
     Target& t = m_targets[layer];
-    switch_to(layer);
     if (t.rows) {
         flush_rows(t); // the rows queued before this feature go in before it
     }
@@ -389,7 +388,6 @@ std::string LayerWriter::write_lending(std::size_t layer, const OGRFeature& sour
 void LayerWriter::write_row(std::size_t layer, const GpkgValues& values, const GpkgGeometry& geometry)
 {
     Target& t = m_targets[layer];
-    switch_to(layer);
     try {
         t.rows->insert(values, geometry);
     } catch (const io_error&) {
@@ -415,16 +413,6 @@ void LayerWriter::flush_rows(Target& t)
     for (GpkgRows::Refusal& r : t.rows->take_refusals()) {
         m_refusals.push_back({layer, r.fid, std::move(r.message)});
     }
-}
-
-// Features of several layers go into one file in the order written, as through GDAL: a layer's
-// queued rows go in before the next layer's first feature.
-void LayerWriter::switch_to(std::size_t layer)
-{
-    if (layer != m_current && m_current < m_targets.size() && m_targets[m_current].rows) {
-        flush_rows(m_targets[m_current]);
-    }
-    m_current = layer;
 }
 
 void LayerWriter::flush_rows()

@@ -164,7 +164,6 @@ private:
     void create_fields(Target& t, const OGRFeatureDefn& source);
     void open_rows(Target& t, const OGRFeatureDefn& source, const std::vector<std::string>& options);
     void flush_rows(Target& t);
-    void switch_to(std::size_t layer);
     void throw_if_write_failed() const;
     [[noreturn]] void fail_finishing(const std::string& gdal_message) const;
     void finish();
@@ -181,7 +180,6 @@ private:
     std::string m_driver_name;
     std::vector<Problem> m_problems;
     std::vector<Refusal> m_refusals; ///< rows refused, not yet taken
-    std::size_t m_current = 0;       ///< the layer written last
     bool m_in_transaction = false;
     bool m_committed = false;
 };

@@ -4,8 +4,10 @@
 // the blob encoded, the row inserted), `Write/gdal/<layer>` through GDAL (to_ogr, an OGRFeature,
 // CreateFeature). Both include the commit (the spatial index, the close). Fails when a feature
 // is refused or the file's count differs; skips with "data set absent" without ../shared/data.
+// `PackRtree/<n>`: the spatial index's packing alone, on generated boxes.
 // bench/README.md, "The writer".
 #include "io/gpkg_rows.hpp"
+#include "io/gpkg_rtree.hpp"
 #include "io/ogr_geometry.hpp"
 #include "io/writer.hpp"
 #include "test_data.hpp"
@@ -135,7 +137,41 @@ void BM_Write(benchmark::State& state, const Layer& layer, bool rows)
     state.counters["vertices"] = static_cast<double>(in->vertices);
 }
 
+/// The spatial index's packing alone (io/gpkg_rtree.hpp, `pack_rtree`): `n` small boxes spread
+/// at random, cut into nodes of SQLite's 51 cells. The write phase packs once per layer, after
+/// its last feature: serial time at every thread count.
+void BM_PackRtree(benchmark::State& state)
+{
+    const auto n = static_cast<std::size_t>(state.range(0));
+    std::vector<RtreeEntry> boxes;
+    std::uint64_t seed = 12345;
+    const auto next = [&seed] {
+        seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+        return static_cast<double>(seed >> 11) / 9007199254740992.0;
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+        OGREnvelope box;
+        box.MinX = next() * 10000;
+        box.MinY = next() * 10000;
+        box.MaxX = box.MinX + 5;
+        box.MaxY = box.MinY + 5;
+        boxes.push_back(rtree_entry(static_cast<std::int64_t>(i + 1), box));
+    }
+    std::size_t leaves = 0;
+    for (auto _ : state) {
+        const PackedRtree tree = pack_rtree(boxes, 51);
+        leaves = tree.nodes.size() - tree.first_leaf;
+        benchmark::DoNotOptimize(tree.nodes.data());
+    }
+    if (leaves != (n + 50) / 51) {
+        state.SkipWithError(("packed into " + std::to_string(leaves) + " leaves, not " + std::to_string((n + 50) / 51)).c_str());
+        return;
+    }
+    state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * n));
+}
+
 [[maybe_unused]] const bool registered = [] {
+    benchmark::RegisterBenchmark("PackRtree", BM_PackRtree)->Arg(20000)->Arg(250000)->Unit(benchmark::kMillisecond);
     for (const Layer& layer : layers) {
         for (const bool rows : {true, false}) {
             benchmark::RegisterBenchmark((std::string("Write/") + (rows ? "rows/" : "gdal/") + layer.name).c_str(),

@@ -17,6 +17,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <chrono>
 #include <limits>
 #include <set>
 #include <string>
@@ -414,12 +415,14 @@ void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerge
     // Reading and stitching on one side, writing OUT on the other: on two threads at once when
     // the run has them and it pays (app/handoff.hpp); the features reach OUT in input order
     // either way.
+    const auto t0 = std::chrono::steady_clock::now();
     hand_off<Ready>(writer_thread_pays(plan, result), HandoffShape{}, [&](Ready& r) { return input.next(r); },
                     [&](Ready& r) {
                         w.feature(r);
                         progress.update(static_cast<std::int64_t>(w.written()));
                     });
     writer.flush_rows(); // the last batch of rows
+    const auto t1 = std::chrono::steady_clock::now();
     w.refusals();
     progress.finish(static_cast<std::int64_t>(w.written()));
     interrupt.check();
@@ -428,6 +431,9 @@ void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerge
     const std::size_t failed = merger.counts().failed;
     check_collapse(plan, Drops{result.dropped - failed - result.dropped_rejected, result.dropped_rejected}, result.input);
     writer.commit();
+    const auto t2 = std::chrono::steady_clock::now();
+    spdlog::debug("write: features {:.3f} s, commit {:.3f} s", std::chrono::duration<double>(t1 - t0).count(),
+                  std::chrono::duration<double>(t2 - t1).count());
     for (Problem& p : writer.take_problems()) {
         result.problems.add(std::move(p)); // values and field names the format changed
     }

@@ -11,7 +11,6 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <tuple>
 #include <utility>
 
 namespace trisnap {
@@ -60,6 +59,35 @@ double centre(float lo, float hi)
 double centre_x(const RtreeEntry& e) { return centre(e.min_x, e.max_x); }
 double centre_y(const RtreeEntry& e) { return centre(e.min_y, e.max_y); }
 
+/// `items[first, last)` sorted by (centre `a`, centre `b`, id): a total order (ids are unique),
+/// so one result whatever the sort. The centres are worked out once, not in every comparison
+/// (Andorra x43's 247,551 boxes: the index's packing took 85 ms of the write phase's 0.8 s).
+template <class A, class B>
+void sort_by_centres(std::vector<RtreeEntry>& items, std::size_t first, std::size_t last, A a, B b)
+{
+    struct Key {
+        double a, b;
+        RtreeEntry e;
+    };
+    std::vector<Key> keys;
+    keys.reserve(last - first);
+    for (std::size_t i = first; i < last; ++i) {
+        keys.push_back(Key{a(items[i]), b(items[i]), items[i]});
+    }
+    std::sort(keys.begin(), keys.end(), [](const Key& x, const Key& y) {
+        if (x.a != y.a) {
+            return x.a < y.a;
+        }
+        if (x.b != y.b) {
+            return x.b < y.b;
+        }
+        return x.e.id < y.e.id;
+    });
+    for (std::size_t i = first; i < last; ++i) {
+        items[i] = keys[i - first].e;
+    }
+}
+
 /// One level of Sort-Tile-Recursive: the items cut into nodes of at most max_cells.
 std::vector<std::vector<RtreeEntry>> pack_level(std::vector<RtreeEntry> items, std::size_t max_cells)
 {
@@ -75,18 +103,14 @@ std::vector<std::vector<RtreeEntry>> pack_level(std::vector<RtreeEntry> items, s
         ++slices;
     }
     const std::size_t per_slice = slices * max_cells;
-    std::sort(items.begin(), items.end(), [](const RtreeEntry& a, const RtreeEntry& b) {
-        return std::make_tuple(centre_x(a), centre_y(a), a.id) < std::make_tuple(centre_x(b), centre_y(b), b.id);
-    });
+    sort_by_centres(items, 0, n, centre_x, centre_y);
     nodes.reserve(leaves + slices);
     for (std::size_t start = 0; start < n; start += per_slice) {
-        const auto first = items.begin() + static_cast<std::ptrdiff_t>(start);
-        const auto last = items.begin() + static_cast<std::ptrdiff_t>(std::min(n, start + per_slice));
-        std::sort(first, last, [](const RtreeEntry& a, const RtreeEntry& b) {
-            return std::make_tuple(centre_y(a), centre_x(a), a.id) < std::make_tuple(centre_y(b), centre_x(b), b.id);
-        });
-        for (auto it = first; it < last; it += std::min<std::ptrdiff_t>(static_cast<std::ptrdiff_t>(max_cells), last - it)) {
-            nodes.emplace_back(it, it + std::min<std::ptrdiff_t>(static_cast<std::ptrdiff_t>(max_cells), last - it));
+        const std::size_t end = std::min(n, start + per_slice);
+        sort_by_centres(items, start, end, centre_y, centre_x);
+        for (std::size_t at = start; at < end; at += max_cells) {
+            const auto it = items.begin() + static_cast<std::ptrdiff_t>(at);
+            nodes.emplace_back(it, it + static_cast<std::ptrdiff_t>(std::min(max_cells, end - at)));
         }
     }
     return nodes;

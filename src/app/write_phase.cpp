@@ -116,23 +116,19 @@ private:
     bool m_active = false;
 };
 
-/// One input feature read again, lined up with its record and, when snapped, its stitched
-/// output: what the writer needs, prepared on the reading side of the phase. Where OUT's layer
-/// takes GeoPackage rows (io/gpkg_rows.hpp) the geometry is encoded here, into the blob the
-/// row binds, and freed here: the writing thread only binds and steps. Otherwise a stitched
-/// geometry is handed over flat and made an OGR geometry by the writer, which encodes and frees
-/// it on its own core: made on the reading side, its ring objects were read by the other core
-/// and lent back to be freed (Andorra x43 at 2 threads, the vCPUs far apart: write phase median
-/// 1.455 -> 1.41 s, better in 11 of 16 interleaved pairs; bench/results/REPORT.md, "The two
-/// vCPUs' pace").
+/// One input feature's record and, when snapped, its stitched geometry: what the geometry side
+/// of the phase prepares. Where OUT's layer takes GeoPackage rows (io/gpkg_rows.hpp) the
+/// geometry is encoded there, into the blob the row binds: only the blob crosses to the writing
+/// side. The feature's attributes (and a passed-through feature's own geometry) are read on the
+/// writing side, where they are written: on two threads nothing but the blob moves between the
+/// cores (the two vCPUs are far apart: the reading side took 35 % longer on the other core than on
+/// the writer's, the writing side 40 %, when the attributes crossed; bench/results/REPORT.md,
+/// "The write phase split by what crosses").
 struct Ready {
-    std::uint32_t k = 0;                  ///< input layer
+    std::uint32_t k = 0;                   ///< input layer
     RecordEntry e;
-    OGRFeatureUniquePtr f;                ///< the input feature (attributes)
-    std::unique_ptr<OGRGeometry> geometry; ///< a feature passed through: its own geometry; null: none
-    Geometry stitched;                     ///< a snapped feature: its stitched geometry; empty: none
-    bool as_row = false;                   ///< a GeoPackage row: `values` and `row` (`f`, `geometry`, `stitched` unused)
-    GpkgValues values;                     ///< the row's field values
+    Geometry stitched;                     ///< a snapped feature's stitched geometry (no rows); empty: none
+    bool as_row = false;                   ///< its GeoPackage row's blob is `row` (`stitched` unused)
     GpkgGeometry row;                      ///< the row's geometry blob; empty: none
     std::vector<Problem> problems;         ///< the stitched feature's
     std::size_t vertices = 0;              ///< of the geometry held (the handoff's weight)
@@ -142,20 +138,84 @@ struct Ready {
 /// The handoff's weight of a blob: its bytes over a 2D vertex's.
 std::size_t blob_vertices(const GpkgGeometry& g) { return g.blob.size() / 16; }
 
-/// The reading side: the layers read again in step with records.bin and the stitched features.
-/// It touches the input dataset, the work store and the merger only.
-class Preparer {
+/// The geometry side: records.bin and the stitched features, in input order. It touches the
+/// work store and the merger only.
+class Stitched {
 public:
-    Preparer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerger& merger, const LayerWriter& writer,
+    Stitched(const tiling::WorkStore& store, stitch::OutputMerger& merger, const LayerWriter& writer,
              const RunResult& result, const InterruptGuard& interrupt)
-        : m_plan(plan), m_log(store), m_merger(merger), m_writer(writer), m_interrupt(interrupt)
+        : m_log(store), m_merger(merger), m_writer(writer), m_interrupt(interrupt)
     {
         for (const LayerCounts& c : result.layers) { // copied: the writing side updates the result
+            m_input.push_back(c.input);
+        }
+    }
+    /// The next input feature's, false after the last of the last layer.
+    bool next(Ready& r);
+
+private:
+    RecordLog m_log;
+    stitch::OutputMerger& m_merger;
+    const LayerWriter& m_writer; ///< rows(): read only, set before the phase
+    const InterruptGuard& m_interrupt;
+    std::vector<std::size_t> m_input; ///< features of each layer read the first time
+    std::uint32_t m_k = 0;            ///< the layer
+    std::size_t m_i = 0;              ///< its features so far
+    std::size_t m_seq = 0;            ///< input position across layers
+    stitch::OutputItem m_item;
+};
+
+bool Stitched::next(Ready& r)
+{
+    while (m_k < m_input.size() && m_i >= m_input[m_k]) {
+        ++m_k;
+        m_i = 0;
+    }
+    if (m_k >= m_input.size()) {
+        return false;
+    }
+    if (!m_log.next(r.e)) {
+        throw tiling::work_error("damaged work file: records.bin is cut short");
+    }
+    m_interrupt.check();
+    r.k = m_k;
+    const std::size_t seq = m_seq++;
+    ++m_i;
+    if (r.e.verdict != RecordEntry::snap) {
+        return true;
+    }
+    if (!m_merger.next(m_item) || m_item.seq != seq) {
+        throw tiling::work_error("damaged work files: the stitched features do not line up with records.bin");
+    }
+    r.problems = std::move(m_item.problems);
+    m_item.problems.clear();
+    if (const GpkgRows* rows = m_writer.rows(r.k)) {
+        encode_gpkg(m_item.output.geometry, static_cast<OGRwkbGeometryType>(r.e.type), rows->srs_id(), r.row);
+        m_item.output.geometry = {};
+        r.as_row = true;
+        r.vertices = blob_vertices(r.row);
+        return true;
+    }
+    r.stitched = std::move(m_item.output.geometry);
+    m_item.output.geometry = {};
+    r.vertices = tiling::engine_vertices(r.stitched);
+    return true;
+}
+
+/// The input's layers read again, in step with the records, for the attributes (and the
+/// geometries of the features that pass through): on the writing side.
+class Attributes {
+public:
+    Attributes(Plan& plan, const RunResult& result) : m_plan(plan)
+    {
+        for (const LayerCounts& c : result.layers) {
             m_layers.push_back({c.input, c.input != c.rejected + c.snapped});
         }
     }
-    /// The next input feature, false after the last of the last layer.
-    bool next(Ready& r);
+    /// Layer k's next feature, which must be the one `e` records.
+    OGRFeatureUniquePtr next(std::uint32_t k, const RecordEntry& e);
+    /// After the last feature: every layer has ended where the first read ended.
+    void finish() { close_through(static_cast<std::uint32_t>(m_layers.size())); }
 
 private:
     [[noreturn]] void changed(std::uint32_t k, const std::string& what) const
@@ -164,44 +224,37 @@ private:
                        "the input changed while trisnap ran (" + what + "); run again on a stable copy");
     }
     void open_layer();
-    void prepare(Ready& r);
+    /// Every layer before `k` read to its end, checked to have no more features.
+    void close_through(std::uint32_t k);
 
     Plan& m_plan;
-    RecordLog m_log;
-    stitch::OutputMerger& m_merger;
-    const LayerWriter& m_writer; ///< rows(): read only, set before the phase
-    const InterruptGuard& m_interrupt;
     struct Layer {
         std::size_t input = 0;        ///< features read the first time
         bool geometries_read = false; ///< some pass through with their own geometry
     };
     std::vector<Layer> m_layers;
-    std::uint32_t m_k = 0;    ///< the layer being read
-    std::size_t m_i = 0;      ///< features of it read
-    std::size_t m_seq = 0;    ///< input position across layers
+    std::uint32_t m_k = 0; ///< the layer being read
+    std::size_t m_i = 0;   ///< features of it read
+    std::size_t m_seq = 0; ///< input position across layers
     std::unique_ptr<GeometriesLeftOut> m_left_out;
     std::unique_ptr<LayerReader> m_reader;
-    stitch::OutputItem m_item;
 };
 
-void Preparer::open_layer()
+void Attributes::open_layer()
 {
     m_left_out = std::make_unique<GeometriesLeftOut>(m_plan, *m_plan.layers[m_k], m_layers[m_k].geometries_read);
     m_reader = std::make_unique<LayerReader>(*m_plan.dataset, *m_plan.layers[m_k], m_plan.layers);
     m_i = 0;
 }
 
-bool Preparer::next(Ready& r)
+void Attributes::close_through(std::uint32_t k)
 {
-    for (;;) {
-        if (m_k >= m_plan.layers.size()) {
-            return false;
-        }
+    while (m_k < k && m_k < m_layers.size()) {
         if (!m_reader) {
             open_layer();
         }
         if (m_i < m_layers[m_k].input) {
-            break;
+            throw std::logic_error("the write phase left layer " + std::to_string(m_k) + " before its end");
         }
         if (m_reader->next_raw()) {
             changed(m_k, "it now has more than " + std::to_string(m_i) + " features");
@@ -210,102 +263,70 @@ bool Preparer::next(Ready& r)
         m_left_out.reset();
         ++m_k;
     }
-    if (!m_log.next(r.e)) {
-        throw tiling::work_error("damaged work file: records.bin is cut short");
+}
+
+OGRFeatureUniquePtr Attributes::next(std::uint32_t k, const RecordEntry& e)
+{
+    close_through(k);
+    if (!m_reader) {
+        open_layer();
     }
-    m_interrupt.check();
-    r.k = m_k;
-    r.f = m_reader->next_raw();
-    if (!r.f) {
+    OGRFeatureUniquePtr f = m_reader->next_raw();
+    if (!f) {
         changed(m_k, "it now ends after " + std::to_string(m_i) + " features");
     }
-    prepare(r);
+    if (f->GetFID() != e.fid) {
+        changed(m_k, "feature " + std::to_string(m_seq + 1) + " has FID " + std::to_string(f->GetFID()) + ", was " +
+                         std::to_string(e.fid));
+    }
     ++m_i;
     ++m_seq;
-    return true;
+    return f;
 }
 
-void Preparer::prepare(Ready& r)
-{
-    if (r.f->GetFID() != r.e.fid) {
-        changed(r.k, "feature " + std::to_string(m_seq + 1) + " has FID " + std::to_string(r.f->GetFID()) + ", was " +
-                         std::to_string(r.e.fid));
-    }
-    if (r.e.verdict == RecordEntry::rejected) {
-        return;
-    }
-    const GpkgRows* rows = m_writer.rows(r.k);
-    if (r.e.verdict == RecordEntry::pass) {
-        r.geometry.reset(r.f->StealGeometry());
-        if (rows != nullptr && encode_gpkg(r.geometry.get(), rows->srs_id(), r.row)) {
-            rows->take(*r.f, r.e.fid, r.values);
-            r.as_row = true;
-            r.geometry.reset();
-            r.f.reset();
-            r.vertices = blob_vertices(r.row);
-            return;
-        }
-        r.vertices = count_vertices(r.geometry.get());
-        return;
-    }
-    if (!m_merger.next(m_item) || m_item.seq != m_seq) {
-        changed(r.k, "the stitched features do not line up with the input");
-    }
-    r.problems = std::move(m_item.problems);
-    m_item.problems.clear();
-    r.f->SetGeometryDirectly(nullptr);
-    if (rows != nullptr) {
-        encode_gpkg(m_item.output.geometry, static_cast<OGRwkbGeometryType>(r.e.type), rows->srs_id(), r.row);
-        m_item.output.geometry = {};
-        rows->take(*r.f, r.e.fid, r.values);
-        r.f.reset();
-        r.as_row = true;
-        r.vertices = blob_vertices(r.row);
-        return;
-    }
-    r.stitched = std::move(m_item.output.geometry);
-    m_item.output.geometry = {};
-    r.vertices = tiling::engine_vertices(r.stitched);
-}
-
-/// The writing side: OUT's writer and the run's counts and problems.
+/// The writing side: the input read again for the attributes, OUT's writer and the run's
+/// counts and problems.
 class Writer {
 public:
-    Writer(LayerWriter& writer, RunResult& result)
-        : m_writer(writer), m_result(result), m_rejected(rejected_features(result.problems))
+    Writer(Plan& plan, LayerWriter& writer, RunResult& result)
+        : m_attributes(plan, result), m_writer(writer), m_result(result), m_rejected(rejected_features(result.problems))
     {
     }
     /// Features written so far, in all layers.
     std::size_t written() const { return m_writer.written(); }
     void feature(Ready& r);
+    /// After the last feature: the input's layers ended where they did the first time.
+    void finish() { m_attributes.finish(); }
     /// Accounts the rows OUT's writer refused since the last call.
     void refusals();
 
 private:
     void write(std::uint32_t k, std::int64_t fid, OGRFeature& f, std::unique_ptr<OGRGeometry>& geometry);
-    void write_row(std::uint32_t k, const GpkgValues& values, const GpkgGeometry& row);
+    void write_row(std::uint32_t k, const OGRFeature& f, std::int64_t fid, const GpkgGeometry& row);
     void account(std::uint32_t k, std::int64_t fid, const std::string& error);
     void vanished(std::uint32_t k, const RecordEntry& e, bool reported, bool rejected);
 
+    Attributes m_attributes;
     LayerWriter& m_writer;
     RunResult& m_result;
     std::set<std::pair<std::uint32_t, std::int64_t>> m_rejected; ///< (layer, FID) the engine rejected (109)
+    GpkgValues m_values;  ///< a row's values, taken again for each row
+    GpkgGeometry m_own;   ///< a passed-through feature's own geometry, encoded
 };
 
 // The values the format changed (903) go to the log as they are found, not held by the writer
 // until the end (their order in the log is the same: no other phase reports those codes).
 void Writer::write(std::uint32_t k, std::int64_t fid, OGRFeature& f, std::unique_ptr<OGRGeometry>& geometry)
 {
-    // The geometry comes back to the caller: a feature's own to the item, to be freed with it on
-    // the reading side that read it; a stitched one made here, to be freed here.
     account(k, fid, m_writer.write_lending(k, f, fid, geometry));
 }
 
 // A row goes in with its batch: the refusals of earlier rows may come back now (problem 902 is
 // sorted into place with the others: app/problem_log.hpp).
-void Writer::write_row(std::uint32_t k, const GpkgValues& values, const GpkgGeometry& row)
+void Writer::write_row(std::uint32_t k, const OGRFeature& f, std::int64_t fid, const GpkgGeometry& row)
 {
-    m_writer.write_row(k, values, row);
+    m_writer.rows(k)->take(f, fid, m_values);
+    m_writer.write_row(k, m_values, row);
     refusals();
 }
 
@@ -351,14 +372,17 @@ void Writer::feature(Ready& r)
 {
     const std::uint32_t k = r.k;
     const RecordEntry& e = r.e;
+    OGRFeatureUniquePtr f = m_attributes.next(k, e); // read for every record: the reads stay in step
     if (e.verdict == RecordEntry::rejected) {
         return;
     }
+    const GpkgRows* rows = m_writer.rows(k);
     if (e.verdict == RecordEntry::pass) {
-        if (r.as_row) {
-            write_row(k, r.values, r.row);
+        std::unique_ptr<OGRGeometry> own(f->StealGeometry());
+        if (rows != nullptr && encode_gpkg(own.get(), rows->srs_id(), m_own)) {
+            write_row(k, *f, e.fid, m_own);
         } else {
-            write(k, e.fid, *r.f, r.geometry);
+            write(k, e.fid, *f, own);
         }
         return;
     }
@@ -373,12 +397,13 @@ void Writer::feature(Ready& r)
         vanished(k, e, reported, rejected);
         return;
     }
+    f->SetGeometryDirectly(nullptr);
     if (r.as_row) {
-        write_row(k, r.values, r.row);
+        write_row(k, *f, e.fid, r.row);
         return;
     }
     std::unique_ptr<OGRGeometry> g(to_ogr(r.stitched, static_cast<OGRwkbGeometryType>(e.type)));
-    write(k, e.fid, *r.f, g);
+    write(k, e.fid, *f, g);
 }
 
 /// Whether the write phase hands features to a writer thread (app/handoff.hpp). It pays where
@@ -404,23 +429,24 @@ void write_layer(Plan& plan, const tiling::WorkStore& store, stitch::OutputMerge
                  RunResult& result, Progress& progress, const InterruptGuard& interrupt)
 {
     result.problems.begin_phase("problems-write-"); // runs of a write that stopped go
-    Preparer input(plan, store, merger, writer, result, interrupt);
-    Writer w(writer, result);
+    Stitched input(store, merger, writer, result, interrupt);
+    Writer w(plan, writer, result);
     for (std::size_t k = 0; k < result.layers.size(); ++k) {
         writer.expect(k, result.layers[k].input);
     }
     // The count is what went into OUT, of the features read: a bar at 292/292 for a layer that
     // collapsed entirely (--force) said "written" of features that were not.
     progress.start("write", static_cast<std::int64_t>(result.input), "features written");
-    // Reading and stitching on one side, writing OUT on the other: on two threads at once when
-    // the run has them and it pays (app/handoff.hpp); the features reach OUT in input order
-    // either way.
+    // The stitched features (encoded) on one side; the input's attributes read again and OUT
+    // written on the other: on two threads at once when the run has them and it pays
+    // (app/handoff.hpp); the features reach OUT in input order either way.
     const auto t0 = std::chrono::steady_clock::now();
     hand_off<Ready>(writer_thread_pays(plan, result), HandoffShape{}, [&](Ready& r) { return input.next(r); },
                     [&](Ready& r) {
                         w.feature(r);
                         progress.update(static_cast<std::int64_t>(w.written()));
                     });
+    w.finish();
     writer.flush_rows(); // the last batch of rows
     const auto t1 = std::chrono::steady_clock::now();
     w.refusals();

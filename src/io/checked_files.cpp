@@ -2,8 +2,12 @@
 
 #include <cpl_vsi.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <atomic>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <map>
 #include <memory>
@@ -15,10 +19,15 @@ namespace {
 // Installed without a trailing '/', so the callbacks get the absolute local path, '/' included.
 constexpr const char* k_prefix = "/vsitrisnap_checked";
 
+/// Written bytes after which the kernel is asked to start writing them to disk.
+constexpr std::uint64_t k_writeback_bytes = 8u << 20;
+
 /// One open file: the local GDAL handle everything is forwarded to, and its path for messages.
 struct CheckedFile {
     VSILFILE* file = nullptr;
     std::string path;
+    int fd = -1;                ///< the same file, for sync_file_range (-1: none)
+    std::uint64_t unsynced = 0; ///< bytes written since writeback was last started
 };
 
 std::mutex g_mutex;
@@ -45,7 +54,30 @@ void* open_file(void*, const char* filename, const char* access)
     if (file == nullptr) {
         return nullptr;
     }
-    return new CheckedFile{file, filename};
+    auto* f = new CheckedFile{file, filename};
+    const std::string mode = access;
+    if (mode.find_first_of("wa+") != std::string::npos) {
+        f->fd = ::open(filename, O_RDONLY | O_CLOEXEC);
+    }
+    return f;
+}
+
+// A file written for OUT is synced to disk before it goes into place (io/temp_files.hpp): that
+// fsync waited for all of it (~70 ms for Andorra x43's 64 MB GeoPackage). Writeback started as
+// the bytes come lets the disk write while the run works. Only a hint: an error shows at the
+// fsync, which checks everything.
+void start_writeback(CheckedFile& f, std::uint64_t bytes)
+{
+#ifdef __linux__
+    f.unsynced += bytes;
+    if (f.fd >= 0 && f.unsynced >= k_writeback_bytes) {
+        ::sync_file_range(f.fd, 0, 0, SYNC_FILE_RANGE_WRITE);
+        f.unsynced = 0;
+    }
+#else
+    (void)f;
+    (void)bytes;
+#endif
 }
 
 vsi_l_offset tell_file(void* handle)
@@ -76,6 +108,7 @@ size_t write_file(void* handle, const void* buffer, size_t size, size_t count)
     if (written != count) {
         record_failure(f->path, "write");
     }
+    start_writeback(*f, static_cast<std::uint64_t>(written) * size);
     return written;
 }
 
@@ -103,6 +136,9 @@ int truncate_file(void* handle, vsi_l_offset size)
 int close_file(void* handle)
 {
     const std::unique_ptr<CheckedFile> f(as_file(handle));
+    if (f->fd >= 0) {
+        ::close(f->fd);
+    }
     errno = 0;
     return checked(*f, "close", VSIFCloseL(f->file));
 }

@@ -4,7 +4,9 @@
 // leaves a file cut short and the driver reports success. Paths under checked_path() go through
 // a GDAL virtual file system that forwards every call to the local file system and remembers
 // the first write, flush, truncate or close that failed for each file; the writer asks for it
-// with take_write_failure() before it trusts the result.
+// with take_write_failure() before it trusts the result. Every 8 MiB written to a file it also
+// asks the kernel to start writing them to disk (sync_file_range), so that the fsync before OUT
+// goes into place has little left to wait for.
 #include <filesystem>
 #include <string>
 

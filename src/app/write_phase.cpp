@@ -408,14 +408,13 @@ void Writer::feature(Ready& r)
 
 /// Whether the write phase hands features to a writer thread (app/handoff.hpp). It pays where
 /// a feature's fixed cost (its SQLite row, its attributes) outweighs its vertices, and loses
-/// where features are large: measured 2026-11-28 at 2 threads, medians of 3 (bench/results/
-/// REPORT.md, "A writer thread"): the write phase -10 % on Jakarta buildings (5 vertices a
-/// feature), -7 % on Andorra x43 (7.7), +26 % on Natural Earth land (39: each big geometry is made on
-/// one core and encoded on the other). Reading beside the spool was tried too and gained nothing
-/// (the same section). With GeoPackage rows (2026-12-01) the writing side is cheap and the
-/// handover's cost decides: it still pays on Andorra x43 (write phase medians ~1.0 against
-/// ~1.2 s) and lost on Jakarta (0.25 against 0.20 s) in one stretch of the VM (REPORT.md,
-/// "GeoPackage rows"); left as it is.
+/// where features are large. Since the attributes are read on the writing side (only the blobs
+/// cross), measured 2026-12-02 at 2 threads, interleaved, thread on against off: write phase
+/// 0.14-0.15 against 0.16-0.20 s on Jakarta buildings (5 vertices a feature, 6 of 6 pairs),
+/// 0.59-0.63 against 0.77-0.81 s on Andorra x43 (7.7, 5 of 5), and 0.32-0.35 against 0.20-0.28 s
+/// on Natural Earth land (39: its large blobs cross; 5 of 5 lost). Earlier measurements, with the
+/// attributes crossing too: bench/results/REPORT.md, "A writer thread", "GeoPackage rows" and
+/// "The write phase split by what crosses".
 bool writer_thread_pays(const Plan& plan, const RunResult& result)
 {
     constexpr std::size_t k_most_vertices_per_feature = 16;

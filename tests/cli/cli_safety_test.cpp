@@ -241,9 +241,10 @@ std::vector<FixtureFeature> many_squares(int n)
 
 // The input changes between the read and the write (the run stops itself after the stitch and
 // "another process" edits the layer): the write phase reads the layer again for its attributes
-// and finds it different. On two threads, with features this small, that read runs beside OUT's
-// writer (app/handoff.hpp), so its error comes from the reading thread; on one from the loop.
-// Either way: one line naming the input, layer and change, exit 1, nothing at OUT.
+// and finds it different. On two threads, with features this small, the stitched features are
+// read on a thread of their own (app/handoff.hpp) while the input is read again beside OUT's
+// writer: the error stops the writer with that thread still running; on one thread it comes from
+// the loop. Either way: one line naming the input, layer and change, exit 1, nothing at OUT.
 class CliInputChanged : public ::testing::TestWithParam<int> {
 protected:
     TempDir dir;
@@ -252,9 +253,12 @@ protected:
 TEST_P(CliInputChanged, DuringTheRunStopsTheWriteAndLeavesNothing)
 {
     const std::string threads = std::to_string(GetParam());
-    for (const bool grow : {true, false}) {
-        SCOPED_TRACE(grow ? "a feature added" : "the last feature deleted");
-        const std::string in = dir.path(grow ? "grow.gpkg" : "shrink.gpkg");
+    enum class Change { grow, shrink, replace };
+    for (const Change change : {Change::grow, Change::shrink, Change::replace}) {
+        SCOPED_TRACE(change == Change::grow     ? "a feature added"
+                     : change == Change::shrink ? "the last feature deleted"
+                                                : "a feature in the middle deleted and one added");
+        const std::string in = dir.path(change == Change::grow ? "grow.gpkg" : change == Change::shrink ? "shrink.gpkg" : "replace.gpkg");
         write_fixture(in, "GPKG", "parcels", 3857, wkbPolygon, many_squares(1000));
         const std::string out = dir.path("out.gpkg");
         const ScopedEnv hook("TRISNAP_TEST_RAISE", "stitch:SIGSTOP");
@@ -264,20 +268,22 @@ TEST_P(CliInputChanged, DuringTheRunStopsTheWriteAndLeavesNothing)
             GDALDatasetUniquePtr ds(GDALDataset::Open(in.c_str(), GDAL_OF_VECTOR | GDAL_OF_UPDATE));
             ASSERT_TRUE(ds);
             OGRLayer* layer = ds->GetLayer(0);
-            if (grow) {
+            if (change != Change::grow) {
+                ASSERT_EQ(layer->DeleteFeature(change == Change::shrink ? 1000 : 500), OGRERR_NONE);
+            }
+            if (change != Change::shrink) {
                 OGRFeature f(layer->GetLayerDefn());
                 OGRGeometry* g = nullptr;
                 OGRGeometryFactory::createFromWkt("POLYGON ((5000 5000,5010 5000,5010 5010,5000 5000))", nullptr, &g);
                 f.SetGeometryDirectly(g);
                 ASSERT_EQ(layer->CreateFeature(&f), OGRERR_NONE);
-            } else {
-                ASSERT_EQ(layer->DeleteFeature(1000), OGRERR_NONE);
             }
         }
         kill(pid, SIGCONT);
         const RunOutput r = wait_trisnap(dir, pid);
-        expect_error(r, 1, grow ? "the input changed while trisnap ran (it now has more than 1000 features)"
-                                : "the input changed while trisnap ran (it now ends after 999 features)");
+        expect_error(r, 1, change == Change::grow     ? "the input changed while trisnap ran (it now has more than 1000 features)"
+                           : change == Change::shrink ? "the input changed while trisnap ran (it now ends after 999 features)"
+                                                      : "the input changed while trisnap ran (feature 500 has FID 501, was 500)");
         EXPECT_NE(r.err.find(in), std::string::npos) << "the line names the input: " << r.err;
         EXPECT_NE(r.err.find("parcels"), std::string::npos) << "and its layer: " << r.err;
         EXPECT_FALSE(fs::exists(out));

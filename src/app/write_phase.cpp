@@ -413,7 +413,8 @@ void Writer::feature(Ready& r)
 /// cross), measured 2026-12-02 at 2 threads, interleaved, thread on against off: write phase
 /// 0.14-0.15 against 0.16-0.20 s on Jakarta buildings (5 vertices a feature, 6 of 6 pairs),
 /// 0.59-0.63 against 0.77-0.81 s on Andorra x43 (7.7, 5 of 5), and 0.32-0.35 against 0.20-0.28 s
-/// on Natural Earth land (39: its large blobs cross; 5 of 5 lost). Earlier measurements, with the
+/// on Natural Earth land (39: nearly all its work is stitching, which a thread of its own did not
+/// make faster; 5 of 5 lost). Earlier measurements, with the
 /// attributes crossing too: bench/results/REPORT.md, "A writer thread", "GeoPackage rows" and
 /// "The write phase split by what crosses".
 bool writer_thread_pays(const Plan& plan, const RunResult& result)

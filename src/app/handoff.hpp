@@ -1,7 +1,8 @@
 #pragma once
-// A phase in two stages that run at once on two threads: one that reads (GDAL's reader, and
-// whatever prepares an item) and one that consumes the items in the order read (OUT's writer:
-// app/write_phase.cpp says when it pays). The consumer sees exactly the sequence a loop would
+// A phase in two stages that run at once on two threads: one that reads and prepares items (the
+// write phase: the stitched features, encoded) and one that consumes them in the order read
+// (OUT's writer, with the input's attributes read beside it: app/write_phase.cpp says when it
+// pays). The consumer sees exactly the sequence a loop would
 // give it, so the output does not depend on the thread count; with one thread it is that loop.
 // At most `tokens` batches wait: memory stays bounded by the batch size, not by the layer.
 //
@@ -13,8 +14,8 @@
 // the reading stage has a thread of its own and the consumed batches go back to it to be freed,
 // so each thread frees what it allocated.
 //
-// Each stage touches only its own state: the reader stage its dataset, the consumer stage its
-// outputs. An exception in the reading stage reaches the caller after the items read before it
+// Each stage touches only its own state (the write phase: the reading stage the work files, the
+// consumer stage the input dataset and OUT). An exception in the reading stage reaches the caller after the items read before it
 // were consumed (what the loop does); one in the consuming stage stops the reader (once its
 // current read returns) and is rethrown. Either way on the calling thread.
 #include <condition_variable>

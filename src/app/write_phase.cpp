@@ -119,8 +119,10 @@ private:
 /// One input feature's record and, when snapped, its stitched geometry: what the geometry side
 /// of the phase prepares. Where OUT's layer takes GeoPackage rows (io/gpkg_rows.hpp) the
 /// geometry is encoded there, into the blob the row binds: only the blob crosses to the writing
-/// side. The feature's attributes (and a passed-through feature's own geometry) are read on the
-/// writing side, where they are written: on two threads only the blob moves between the cores.
+/// side. Otherwise the flat stitched geometry crosses and the writer makes, encodes and frees
+/// its OGR geometry on its own core (REPORT.md, "The two vCPUs' pace"). The feature's attributes
+/// (and a passed-through feature's own geometry) are read on the writing side, where they are
+/// written: on two threads only the geometry moves between the cores.
 /// The team's two vCPUs are far apart: while the attributes crossed too, each side took about
 /// 40 % longer on its own thread than in one thread's loop (Andorra x43: reading 0.34 -> 0.48 s,
 /// writing 0.20 -> 0.28 s, medians of 4), and the second thread gained nothing

@@ -129,6 +129,7 @@ private:
 /// (bench/results/REPORT.md, "The write phase split by what crosses").
 struct Ready {
     std::uint32_t k = 0;                   ///< input layer
+    std::size_t seq = 0;                   ///< input position across layers
     RecordEntry e;
     Geometry stitched;                     ///< a snapped feature's stitched geometry (no rows); empty: none
     bool as_row = false;                   ///< its GeoPackage row's blob is `row` (`stitched` unused)
@@ -182,12 +183,12 @@ bool Stitched::next(Ready& r)
     }
     m_interrupt.check();
     r.k = m_k;
-    const std::size_t seq = m_seq++;
+    r.seq = m_seq++;
     ++m_i;
     if (r.e.verdict != RecordEntry::snap) {
         return true;
     }
-    if (!m_merger.next(m_item) || m_item.seq != seq) {
+    if (!m_merger.next(m_item) || m_item.seq != r.seq) {
         throw tiling::work_error("damaged work files: the stitched features do not line up with records.bin");
     }
     r.problems = std::move(m_item.problems);
@@ -206,19 +207,20 @@ bool Stitched::next(Ready& r)
 }
 
 /// The input's layers read again, in step with the records, for the attributes (and the
-/// geometries of the features that pass through): on the writing side.
+/// geometries of the features that pass through): on the writing side. Which layer a record is
+/// of, and where each layer ends, the records say (Stitched walks the counts of the first read).
 class Attributes {
 public:
     Attributes(Plan& plan, const RunResult& result) : m_plan(plan)
     {
         for (const LayerCounts& c : result.layers) {
-            m_layers.push_back({c.input, c.input != c.rejected + c.snapped});
+            m_geometries_read.push_back(c.input != c.rejected + c.snapped);
         }
     }
-    /// Layer k's next feature, which must be the one `e` records.
-    OGRFeatureUniquePtr next(std::uint32_t k, const RecordEntry& e);
+    /// The next feature of layer `r.k`, which must be the one `r.e` records.
+    OGRFeatureUniquePtr next(const Ready& r);
     /// After the last feature: every layer has ended where the first read ended.
-    void finish() { close_through(static_cast<std::uint32_t>(m_layers.size())); }
+    void finish() { close_through(static_cast<std::uint32_t>(m_geometries_read.size())); }
 
 private:
     [[noreturn]] void changed(std::uint32_t k, const std::string& what) const
@@ -231,33 +233,25 @@ private:
     void close_through(std::uint32_t k);
 
     Plan& m_plan;
-    struct Layer {
-        std::size_t input = 0;        ///< features read the first time
-        bool geometries_read = false; ///< some pass through with their own geometry
-    };
-    std::vector<Layer> m_layers;
+    std::vector<bool> m_geometries_read; ///< per layer: some pass through with their own geometry
     std::uint32_t m_k = 0; ///< the layer being read
     std::size_t m_i = 0;   ///< features of it read
-    std::size_t m_seq = 0; ///< input position across layers
     std::unique_ptr<GeometriesLeftOut> m_left_out;
     std::unique_ptr<LayerReader> m_reader;
 };
 
 void Attributes::open_layer()
 {
-    m_left_out = std::make_unique<GeometriesLeftOut>(m_plan, *m_plan.layers[m_k], m_layers[m_k].geometries_read);
+    m_left_out = std::make_unique<GeometriesLeftOut>(m_plan, *m_plan.layers[m_k], m_geometries_read[m_k]);
     m_reader = std::make_unique<LayerReader>(*m_plan.dataset, *m_plan.layers[m_k], m_plan.layers);
     m_i = 0;
 }
 
 void Attributes::close_through(std::uint32_t k)
 {
-    while (m_k < k && m_k < m_layers.size()) {
+    while (m_k < k && m_k < m_geometries_read.size()) {
         if (!m_reader) {
             open_layer();
-        }
-        if (m_i < m_layers[m_k].input) {
-            throw std::logic_error("the write phase left layer " + std::to_string(m_k) + " before its end");
         }
         if (m_reader->next_raw()) {
             changed(m_k, "it now has more than " + std::to_string(m_i) + " features");
@@ -268,9 +262,9 @@ void Attributes::close_through(std::uint32_t k)
     }
 }
 
-OGRFeatureUniquePtr Attributes::next(std::uint32_t k, const RecordEntry& e)
+OGRFeatureUniquePtr Attributes::next(const Ready& r)
 {
-    close_through(k);
+    close_through(r.k);
     if (!m_reader) {
         open_layer();
     }
@@ -278,12 +272,11 @@ OGRFeatureUniquePtr Attributes::next(std::uint32_t k, const RecordEntry& e)
     if (!f) {
         changed(m_k, "it now ends after " + std::to_string(m_i) + " features");
     }
-    if (f->GetFID() != e.fid) {
-        changed(m_k, "feature " + std::to_string(m_seq + 1) + " has FID " + std::to_string(f->GetFID()) + ", was " +
-                         std::to_string(e.fid));
+    if (f->GetFID() != r.e.fid) {
+        changed(m_k, "feature " + std::to_string(r.seq + 1) + " has FID " + std::to_string(f->GetFID()) + ", was " +
+                         std::to_string(r.e.fid));
     }
     ++m_i;
-    ++m_seq;
     return f;
 }
 
@@ -375,7 +368,7 @@ void Writer::feature(Ready& r)
 {
     const std::uint32_t k = r.k;
     const RecordEntry& e = r.e;
-    OGRFeatureUniquePtr f = m_attributes.next(k, e); // read for every record: the reads stay in step
+    OGRFeatureUniquePtr f = m_attributes.next(r); // read for every record: the reads stay in step
     if (e.verdict == RecordEntry::rejected) {
         return;
     }

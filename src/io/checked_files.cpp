@@ -63,7 +63,7 @@ void* open_file(void*, const char* filename, const char* access)
 }
 
 // A file written for OUT is synced to disk before it goes into place (io/temp_files.hpp): that
-// fsync waited for all of it (~70 ms for Andorra x43's 64 MB GeoPackage). Writeback started as
+// fsync waited for all of it (65-106 ms for Andorra x43's 63 MB GeoPackage). Writeback started as
 // the bytes come lets the disk write while the run works. Only a hint: an error shows at the
 // fsync, which checks everything.
 void start_writeback(CheckedFile& f, std::uint64_t bytes)

@@ -159,11 +159,31 @@ Geometry OutputMerger::Impl::build(const detail::CleanFeature& cf, bool has_z, s
             return g;
         }
     }
+    // The edges in one vector of the size they need (a feature across every tile, as Natural
+    // Earth's land, has ~0.4 M of 48 bytes), each piece's freed once taken: fresh memory costs
+    // page faults, ~1 ms a MiB on the team's VM (REPORT.md, "The stitch's memory").
+    const auto is_edges = [&](const Piece& p) { return p.whole || !cf.polygonal; };
+    std::size_t total = 0;
+    for (const Piece& p : pieces) {
+        total += p.edges.size();
+        if (is_edges(p)) {
+            for (const Polygon& poly : p.geometry.polygons) {
+                for (const Path& r : poly.rings) {
+                    total += r.empty() ? 0 : r.size() - 1;
+                }
+            }
+            for (const Path& l : p.geometry.lines) {
+                total += l.empty() ? 0 : l.size() - 1;
+            }
+        }
+    }
     std::vector<DirectedEdge> edges;
+    edges.reserve(total);
     std::vector<Polygon> finished;
     for (Piece& p : pieces) {
         edges.insert(edges.end(), p.edges.begin(), p.edges.end());
-        if (!p.whole && cf.polygonal) {
+        std::vector<DirectedEdge>().swap(p.edges);
+        if (!is_edges(p)) {
             std::move(p.geometry.polygons.begin(), p.geometry.polygons.end(), std::back_inserter(finished));
             continue;
         }
@@ -175,6 +195,7 @@ Geometry OutputMerger::Impl::build(const detail::CleanFeature& cf, bool has_z, s
                 edges.push_back(DirectedEdge{l[i], l[i + 1]});
             }
         }
+        p.geometry = Geometry{};
     }
     if (edges.empty() && finished.empty()) {
         return Geometry{Geometry::Type::Empty, {}, {}, has_z};

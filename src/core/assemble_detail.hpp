@@ -69,7 +69,7 @@ inline void close_and_sort(Geometry& g)
 {
     for (Polygon& p : g.polygons) {
         for (Path& ring : p.rings) {
-            ring.push_back(ring.front()); // the assembler made room for it (closable())
+            ring.push_back(ring.front()); // the assembler made room for it (emit())
         }
     }
     sort_canonical(g.polygons);

@@ -9,6 +9,8 @@
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <stdexcept>
+#include <string>
 
 namespace trisnap {
 namespace {
@@ -16,7 +18,12 @@ namespace {
 using detail::EdgeKeyLess;
 using detail::same_xy;
 
-constexpr std::size_t k_none = std::numeric_limits<std::size_t>::max();
+constexpr std::size_t k_none = std::numeric_limits<std::size_t>::max(); ///< no loop
+
+/// An edge or vertex of one feature's boundary: 32 bits, half a size_t in the assembler's five
+/// tables (Natural Earth's land: 0.4 M edges in one feature); the constructor refuses more.
+using Index = std::uint32_t;
+constexpr Index k_no = std::numeric_limits<Index>::max(); ///< no vertex (an open end), no position
 
 struct Loop {
     std::vector<Coord> pts;
@@ -111,21 +118,22 @@ public:
 
 private:
     void index_vertices();
-    std::size_t next(std::size_t e) const;
-    void trace(std::size_t start);
-    void emit(const std::vector<std::size_t>& seq, std::size_t from);
+    Index next(Index e) const;
+    void trace(Index start);
+    void emit(std::size_t from);
     std::size_t holder_of(const Loop& hole);
     bool inside(std::size_t shell, const Loop& loop);
     const RingIndex& index_of(std::size_t shell);
 
     std::vector<DirectedEdge> m_edges;
     bool m_has_z;
-    std::vector<std::size_t> m_vertex_of_start; ///< edge -> index of its start vertex
-    std::vector<std::size_t> m_vertex_of_end;   ///< edge -> index of its end vertex (k_none: open)
-    std::vector<std::size_t> m_first;           ///< vertex -> first position in m_out
-    std::vector<std::size_t> m_out;             ///< edge indices by start vertex, then by angle
+    std::vector<Index> m_vertex_of_start; ///< edge -> index of its start vertex
+    std::vector<Index> m_vertex_of_end;   ///< edge -> index of its end vertex (k_no: open)
+    std::vector<Index> m_first;           ///< vertex -> first position in m_out
+    std::vector<Index> m_out;             ///< edge indices by start vertex, then by angle
     std::vector<bool> m_used;
-    std::vector<std::size_t> m_pos;             ///< vertex -> position in the current trace
+    std::vector<Index> m_pos;             ///< vertex -> position in the current trace (k_no: none)
+    std::vector<Index> m_seq;             ///< the current trace's edges
     std::vector<Loop> m_loops;
     std::vector<std::unique_ptr<RingIndex>> m_index; ///< per loop, built on demand
 };
@@ -136,89 +144,96 @@ PolygonAssembler::PolygonAssembler(std::vector<DirectedEdge> edges, bool has_z)
     std::erase_if(m_edges, [](const DirectedEdge& e) { return same_xy(e.a, e.b); });
     std::sort(m_edges.begin(), m_edges.end(), EdgeKeyLess{});
     m_edges.erase(std::unique(m_edges.begin(), m_edges.end(), detail::edge_key_equal), m_edges.end());
+    if (m_edges.size() >= k_no) {
+        throw std::length_error("a feature with " + std::to_string(m_edges.size()) +
+                                " boundary edges: more than one feature's output can hold (2^32 - 1)");
+    }
 }
 
 // Edges are sorted by start point, so each vertex's out-edges are one run; within it they are
 // ordered counter-clockwise around the vertex.
 void PolygonAssembler::index_vertices()
 {
-    const std::size_t n = m_edges.size();
+    const auto n = static_cast<Index>(m_edges.size());
     m_vertex_of_start.resize(n);
     std::vector<Coord> vertices;
-    for (std::size_t e = 0; e < n; ++e) {
+    for (Index e = 0; e < n; ++e) {
         if (vertices.empty() || !same_xy(vertices.back(), m_edges[e].a)) {
             vertices.push_back(m_edges[e].a);
             m_first.push_back(e);
         }
-        m_vertex_of_start[e] = vertices.size() - 1;
+        m_vertex_of_start[e] = static_cast<Index>(vertices.size() - 1);
     }
     m_first.push_back(n);
     m_out.resize(n);
-    std::iota(m_out.begin(), m_out.end(), std::size_t{0});
+    std::iota(m_out.begin(), m_out.end(), Index{0});
     for (std::size_t v = 0; v + 1 < m_first.size(); ++v) {
-        std::sort(m_out.begin() + static_cast<std::ptrdiff_t>(m_first[v]), m_out.begin() + static_cast<std::ptrdiff_t>(m_first[v + 1]),
-                  [&](std::size_t i, std::size_t j) { return direction_less(vertices[v], m_edges[i].b, m_edges[j].b); });
+        std::sort(m_out.begin() + m_first[v], m_out.begin() + m_first[v + 1],
+                  [&](Index i, Index j) { return direction_less(vertices[v], m_edges[i].b, m_edges[j].b); });
     }
-    m_vertex_of_end.assign(n, k_none);
-    for (std::size_t e = 0; e < n; ++e) {
+    m_vertex_of_end.assign(n, k_no);
+    for (Index e = 0; e < n; ++e) {
         auto it = std::lower_bound(vertices.begin(), vertices.end(), m_edges[e].b, xy_less);
         if (it != vertices.end() && same_xy(*it, m_edges[e].b)) {
-            m_vertex_of_end[e] = static_cast<std::size_t>(it - vertices.begin());
+            m_vertex_of_end[e] = static_cast<Index>(it - vertices.begin());
         }
     }
     m_used.assign(n, false);
-    m_pos.assign(vertices.size(), k_none);
+    m_pos.assign(vertices.size(), k_no);
 }
 
 // The edge leaving the end of e within the same sector of the feature: among the out-edges
 // (counter-clockwise), the last one before the direction back along e, else the last overall.
-std::size_t PolygonAssembler::next(std::size_t e) const
+Index PolygonAssembler::next(Index e) const
 {
-    const std::size_t v = m_vertex_of_end[e];
-    if (v == k_none) {
-        return k_none;
+    const Index v = m_vertex_of_end[e];
+    if (v == k_no) {
+        return k_no;
     }
     const Coord& at = m_edges[e].b;
     const Coord& back = m_edges[e].a;
-    const auto lo = m_out.begin() + static_cast<std::ptrdiff_t>(m_first[v]);
-    const auto hi = m_out.begin() + static_cast<std::ptrdiff_t>(m_first[v + 1]);
-    const auto it = std::lower_bound(lo, hi, back, [&](std::size_t o, const Coord& b) {
+    const auto lo = m_out.begin() + m_first[v];
+    const auto hi = m_out.begin() + m_first[v + 1];
+    const auto it = std::lower_bound(lo, hi, back, [&](Index o, const Coord& b) {
         return direction_less(at, m_edges[o].b, b);
     });
     return it != lo ? *(it - 1) : *(hi - 1);
 }
 
-void PolygonAssembler::trace(std::size_t start)
+void PolygonAssembler::trace(Index start)
 {
-    std::vector<std::size_t> seq;
-    for (std::size_t h = start; h != k_none && !m_used[h]; h = next(h)) {
+    std::vector<Index>& seq = m_seq;
+    seq.clear();
+    for (Index h = start; h != k_no && !m_used[h]; h = next(h)) {
         m_used[h] = true;
-        const std::size_t v = m_vertex_of_start[h];
-        if (m_pos[v] != k_none) { // the trace came back to v: cut the loop that closes there
-            const std::size_t k = m_pos[v];
-            emit(seq, k);
+        const Index v = m_vertex_of_start[h];
+        if (m_pos[v] != k_no) { // the trace came back to v: cut the loop that closes there
+            const Index k = m_pos[v];
+            emit(k);
             for (std::size_t q = k; q < seq.size(); ++q) {
-                m_pos[m_vertex_of_start[seq[q]]] = k_none;
+                m_pos[m_vertex_of_start[seq[q]]] = k_no;
             }
             seq.resize(k);
         }
-        m_pos[v] = seq.size();
+        m_pos[v] = static_cast<Index>(seq.size());
         seq.push_back(h);
     }
-    emit(seq, 0);
-    for (std::size_t h : seq) {
-        m_pos[m_vertex_of_start[h]] = k_none;
+    emit(0);
+    for (Index h : seq) {
+        m_pos[m_vertex_of_start[h]] = k_no;
     }
 }
 
 // A simple loop's orientation is the turn at its lexicographically smallest vertex (never
 // collinear there: both neighbours lie on one side of a vertical line through it).
-void PolygonAssembler::emit(const std::vector<std::size_t>& seq, std::size_t from)
+void PolygonAssembler::emit(std::size_t from)
 {
+    const std::vector<Index>& seq = m_seq;
     if (seq.size() < from + 3) {
         return;
     }
     Loop loop;
+    loop.pts.reserve(seq.size() - from + 1); // room for the closing point close_and_sort() adds
     for (std::size_t q = from; q < seq.size(); ++q) {
         loop.pts.push_back(m_edges[seq[q]].a);
     }
@@ -292,41 +307,37 @@ std::size_t PolygonAssembler::holder_of(const Loop& hole)
     return best;
 }
 
-// A copy of a loop with room for the closing point close_and_sort() adds.
-Path closable(const std::vector<Coord>& pts)
-{
-    Path ring;
-    ring.reserve(pts.size() + 1);
-    ring.assign(pts.begin(), pts.end());
-    return ring;
-}
-
 Geometry PolygonAssembler::run(std::vector<Polygon> finished)
 {
     Geometry g;
     g.has_z = m_has_z;
     index_vertices();
-    for (std::size_t e = 0; e < m_edges.size(); ++e) {
+    for (Index e = 0; e < m_edges.size(); ++e) {
         if (!m_used[e]) {
             trace(e);
         }
     }
+    // Each hole's shell first (the tests read the shells' points), then the loops' points moved
+    // into the rings (reserved with room for the closing point).
     m_index.resize(m_loops.size());
+    std::vector<std::size_t> holder(m_loops.size(), k_none);
+    for (std::size_t k = 0; k < m_loops.size(); ++k) {
+        if (!m_loops[k].shell) {
+            holder[k] = holder_of(m_loops[k]);
+        }
+    }
+    m_index.clear(); // they point into the shells' points
     std::vector<std::size_t> polygon_of(m_loops.size(), k_none);
     for (std::size_t k = 0; k < m_loops.size(); ++k) {
         if (m_loops[k].shell) {
             polygon_of[k] = g.polygons.size();
             // Moved in: Polygon{{...}} would copy it through an initializer_list, at its size.
-            g.polygons.emplace_back().rings.push_back(closable(m_loops[k].pts));
+            g.polygons.emplace_back().rings.push_back(std::move(m_loops[k].pts));
         }
     }
-    for (const Loop& hole : m_loops) {
-        if (hole.shell) {
-            continue;
-        }
-        const std::size_t holder = holder_of(hole);
-        if (holder != k_none) {
-            g.polygons[polygon_of[holder]].rings.push_back(closable(hole.pts));
+    for (std::size_t k = 0; k < m_loops.size(); ++k) {
+        if (holder[k] != k_none) {
+            g.polygons[polygon_of[holder[k]]].rings.push_back(std::move(m_loops[k].pts));
         }
     }
     detail::close_and_sort(g);

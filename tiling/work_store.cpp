@@ -323,6 +323,26 @@ bool RecordReader::next(std::string& record)
     }
     std::uint32_t n = 0;
     std::memcpy(&n, m_buffer.data() + m_pos, sizeof n);
+    const std::size_t buffered = m_buffer.size() - m_pos - sizeof n;
+    if (buffered < n && n > m_capacity) {
+        // A record larger than the buffer (a feature across a whole tile: ~1 MB of Natural
+        // Earth's land) is read into `record` itself, not through a buffer grown to its size and
+        // kept at it: fresh memory costs page faults (REPORT.md, "The stitch's memory").
+        record.resize(n);
+        std::memcpy(record.data(), m_buffer.data() + m_pos + sizeof n, buffered);
+        std::size_t got = buffered;
+        while (got < n) {
+            const std::size_t k = m_file.read(record.data() + got, n - got);
+            if (k == 0) {
+                throw work_error("damaged work file: a record is cut short");
+            }
+            got += k;
+            m_consumed += k;
+        }
+        m_buffer.clear();
+        m_pos = 0;
+        return true;
+    }
     if (!fill(sizeof n + n)) {
         throw work_error("damaged work file: a record is cut short");
     }

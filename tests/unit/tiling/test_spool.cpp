@@ -181,6 +181,61 @@ TEST_P(StoreTest, RecordsStreamAndSeekAndRefuseTruncation)
         tiling::work_error);
 }
 
+// Records larger than the reader's buffer (a feature across a whole tile) are read into the
+// record itself; the small ones around them still come through the buffer, and a large record
+// cut short is refused like a small one.
+TEST_P(StoreTest, RecordsLargerThanTheBufferReadWhole)
+{
+    auto store = make();
+    const auto record_of = [](int i) {
+        const std::size_t size = i % 5 == 2 ? static_cast<std::size_t>(1000 + 97 * i) : static_cast<std::size_t>(i % 41);
+        std::string r(size, '\0');
+        for (std::size_t k = 0; k < size; ++k) {
+            r[k] = static_cast<char>('a' + (static_cast<std::size_t>(i) * 7 + k) % 26);
+        }
+        return r;
+    };
+    {
+        auto f = store->create("r");
+        tiling::RecordWriter w(*f);
+        for (int i = 0; i < 60; ++i) {
+            w.write(record_of(i));
+        }
+        f->commit();
+    }
+    for (const std::size_t buffer : {std::size_t{64}, std::size_t{999}, std::size_t{1 << 20}}) {
+        auto in = store->open("r");
+        tiling::RecordReader reader(*in, buffer);
+        std::string record = "left over";
+        int n = 0;
+        while (reader.next(record)) {
+            ASSERT_EQ(record, record_of(n)) << "record " << n << ", buffer " << buffer;
+            ++n;
+        }
+        EXPECT_EQ(n, 60) << "buffer " << buffer;
+    }
+    const std::string whole = store->get("r");
+    // Cut inside the last large record (i = 57: 6,529 bytes, the last bytes of the file but two
+    // small records), then inside its first bytes past the length.
+    const std::size_t tail = record_of(58).size() + record_of(59).size() + 8;
+    for (const std::size_t cut_at : {whole.size() - tail - 100, whole.size() - tail - record_of(57).size() + 10}) {
+        store->put("cut", whole.substr(0, cut_at));
+        auto cut = store->open("cut");
+        tiling::RecordReader cut_reader(*cut, 64);
+        std::string record;
+        int n = 0;
+        EXPECT_THROW(
+            {
+                while (cut_reader.next(record)) {
+                    ++n;
+                }
+            },
+            tiling::work_error)
+            << "cut at " << cut_at;
+        EXPECT_EQ(n, 57) << "the records before the cut one read whole";
+    }
+}
+
 // RecordReader sizes its reads by InFile::size() (so a small file does not fill a whole buffer),
 // but only as a hint: a file whose size says less or more than it holds still reads whole.
 class MisreportedSize : public tiling::InFile {

@@ -5,6 +5,8 @@
 //   Tiling/<layer>/tiles:2     the same on 2 threads              -> speed-up = tiles:1 / tiles:2
 //   Spool/<layer>              the spool phase alone: the plan, then the reach and bucket passes
 //                              over the spooled layer (make_buckets()), one thread
+//   Stitch/<layer>             the stitched output alone (OutputMerger over tiles snapped once),
+//                              one thread
 // Counters: tiles, seam merges, halo growths, and `identical` = share of features equal to the
 // untiled output (tile invariance), measured once per layer outside the timing.
 // bench/tiling runs this with repetitions and writes bench/results/tiling.json (medians).
@@ -13,12 +15,15 @@
 #include "core/wkt.hpp"
 #include "ogr_layer_reader.hpp"
 #include "stitch/spool.hpp"
+#include "stitch/output.hpp"
 #include "stitch/tiled_snap.hpp"
+#include "tiling/tile_input.hpp"
 #include "tiling/work_store.hpp"
 #include "test_data.hpp"
 
 #include <benchmark/benchmark.h>
 
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -151,6 +156,58 @@ void BM_Spool(benchmark::State& state, Layer l)
     state.counters["bucket_entries"] = static_cast<double>(entries);
 }
 
+// The stitch alone: the layer spooled, planned and its tiles snapped once, into a store in
+// memory; each iteration drains a new OutputMerger over the tiles' results (what the write
+// phase's stitched side does: the pieces read back, a feature across tiles traced again). On
+// Natural Earth's land most of it is one feature across all 16 tiles (REPORT.md, "The stitch's
+// memory"). Counters: assembled (features traced again), copied (taken whole from one tile).
+void BM_Stitch(benchmark::State& state, Layer l)
+{
+    Loaded* d = load(l);
+    if (d->features.empty()) {
+        state.SkipWithError((std::string("data set absent: ") + l.file).c_str());
+        return;
+    }
+    SnapOptions o;
+    o.tolerance = l.tolerance;
+    const stitch::TilingOptions tiling;
+    const std::unique_ptr<tiling::WorkStore> store = tiling::make_memory_store();
+    std::vector<Problem> problems;
+    stitch::FeatureSpool spool(*store, o.tolerance, std::numeric_limits<std::size_t>::max(), std::numeric_limits<std::size_t>::max());
+    for (std::size_t i = 0; i < d->features.size(); ++i) {
+        spool.add(i, d->features[i].id, d->features[i].geometry, problems);
+    }
+    stitch::SpoolMeta meta = spool.finish();
+    stitch::ScheduleOptions schedule;
+    schedule.threads = 1;
+    stitch::TiledRun run(*store, o, tiling, schedule);
+    run.plan(meta);
+    run.snap();
+    run.stitch();
+    std::size_t features = 0;
+    std::uint64_t vertices = 0;
+    stitch::OutputCounts counts;
+    for (auto _ : state) {
+        const std::unique_ptr<stitch::OutputMerger> merger = run.output();
+        stitch::OutputItem item;
+        features = 0;
+        vertices = 0;
+        while (merger->next(item)) {
+            ++features;
+            vertices += tiling::engine_vertices(item.output.geometry);
+        }
+        counts = merger->counts();
+    }
+    if (features != d->features.size()) {
+        state.SkipWithError("the stitch gave a different number of features than the layer has");
+        return;
+    }
+    state.counters["features"] = static_cast<double>(features);
+    state.counters["output_vertices"] = static_cast<double>(vertices);
+    state.counters["assembled"] = static_cast<double>(counts.assembled);
+    state.counters["copied"] = static_cast<double>(counts.copied);
+}
+
 int register_all()
 {
     for (const Layer& l : layers) {
@@ -159,6 +216,7 @@ int register_all()
         benchmark::RegisterBenchmark((base + "/tiles:1").c_str(), BM_Tiling, l, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
         benchmark::RegisterBenchmark((base + "/tiles:2").c_str(), BM_Tiling, l, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
         benchmark::RegisterBenchmark((std::string("Spool/") + l.name).c_str(), BM_Spool, l)->Unit(benchmark::kMillisecond)->UseRealTime();
+        benchmark::RegisterBenchmark((std::string("Stitch/") + l.name).c_str(), BM_Stitch, l)->Unit(benchmark::kMillisecond)->UseRealTime();
     }
     return 0;
 }

@@ -278,11 +278,12 @@ void LayerWriter::create_fields(Target& t, const OGRFeatureDefn& source)
     t.orig_fid_field = t.layer->GetLayerDefn()->GetFieldCount() - 1;
 }
 
-// A new GeoPackage layer in a new OUT (not one updated in place: GDAL's transaction there)
-// takes rows where it can.
+// A new GeoPackage layer takes rows where it can: in a new OUT, or made in an existing one by
+// --overwrite or --update (the rows go into the transaction open_in_place() started, and a
+// failure rolls them back with the rest; --append's existing layer is not new).
 void LayerWriter::open_rows(Target& t, const OGRFeatureDefn& source, const std::vector<std::string>& options)
 {
-    if (!m_options.rows || m_in_place || m_streamed) {
+    if (!m_options.rows || m_streamed) {
         return;
     }
     std::vector<int> source_of(static_cast<std::size_t>(t.layer->GetLayerDefn()->GetFieldCount()), -1);

@@ -197,13 +197,14 @@ void fill(OGRFeature& f, std::int64_t fid)
 
 /// Writes `items` to `path` as the write phase would: rows where the layer takes them.
 void write_items(const std::string& path, OGRwkbGeometryType type, const std::vector<Item>& items, bool rows,
-                 bool renumber, bool* took_rows = nullptr)
+                 bool renumber, bool* took_rows = nullptr, bool overwrite = false)
 {
     Source s = memory_source(type, usual_fields());
     WriteOptions options;
     options.path = path;
     options.rows = rows;
     options.renumber = {renumber};
+    options.overwrite = overwrite;
     LayerWriter writer(options, *s.layer);
     if (took_rows != nullptr) {
         *took_rows = writer.rows(0) != nullptr;
@@ -522,6 +523,95 @@ TEST(GpkgRows, SeveralLayersInOneFileHoldGdalsRows)
     }
     EXPECT_NE(dumps[0].find("roads|37;"), std::string::npos) << dumps[0];
     EXPECT_EQ(dumps[1], dumps[0]);
+}
+
+/// An existing OUT as GDAL writes it: "parcels" (the layer the writer replaces) and "keep",
+/// three features each.
+void existing_out(const std::string& path)
+{
+    GDALAllRegister();
+    GDALDatasetUniquePtr ds(GetGDALDriverManager()->GetDriverByName("GPKG")->Create(path.c_str(), 0, 0, 0, GDT_Unknown, nullptr));
+    ASSERT_TRUE(ds);
+    for (const char* name : {"parcels", "keep"}) {
+        OGRLayer* layer = add_layer(*ds, name, wkbPolygon, usual_fields());
+        OGRFeature f(layer->GetLayerDefn());
+        for (std::int64_t fid = 1; fid <= 3; ++fid) {
+            fill(f, fid);
+            f.SetFID(fid);
+            const double x = 1000.0 + static_cast<double>(fid);
+            f.SetGeometryDirectly(to_ogr(polygons(false, {Polygon{{ring({{x, 0, 0}, {x + 1, 0, 0}, {x + 1, 1, 0}})}}}), wkbPolygon));
+            ASSERT_EQ(layer->CreateFeature(&f), OGRERR_NONE);
+        }
+    }
+}
+
+std::string dump_out(const std::string& path)
+{
+    std::string d;
+    for (const char* table : {"parcels", "keep"}) {
+        d += query(path, std::string("SELECT fid, hex(geom), n, big, r, s, flag FROM ") + table + " ORDER BY fid");
+        d += query(path, std::string("SELECT * FROM rtree_") + table + "_geom ORDER BY id");
+    }
+    d += query(path, "SELECT table_name, min_x, min_y, max_x, max_y FROM gpkg_contents ORDER BY table_name");
+    d += query(path, "SELECT * FROM gpkg_ogr_contents ORDER BY table_name");
+    d += query(path, "SELECT type, name, sql FROM sqlite_master ORDER BY type, name");
+    return d;
+}
+
+// --overwrite of a layer in an existing GeoPackage (in place, in the transaction the writer
+// opens) takes rows as a new OUT does: the file then holds what GDAL's path leaves (the rows,
+// their index, the extent, the counts, the schema), and the other layer is untouched.
+TEST(GpkgRows, AnOverwrittenLayerInAnExistingFileHoldsGdalsRows)
+{
+    test::ScratchDir dir;
+    std::string dumps[2];
+    std::string keep_before;
+    for (int rows = 0; rows < 2; ++rows) {
+        const std::string path = (dir.path() / (rows ? "r.gpkg" : "g.gpkg")).string();
+        existing_out(path);
+        keep_before = query(path, "SELECT fid, hex(geom), n, big, r, s, flag FROM keep ORDER BY fid");
+        bool took = false;
+        write_items(path, wkbPolygon, polygonal_items(false), rows == 1, false, &took, true);
+        EXPECT_EQ(took, rows == 1);
+        dumps[rows] = dump_out(path);
+        EXPECT_EQ(query(path, "SELECT fid, hex(geom), n, big, r, s, flag FROM keep ORDER BY fid"), keep_before);
+        EXPECT_EQ(query(path, "SELECT count(*) FROM parcels"), std::to_string(polygonal_items(false).size()) + ";");
+    }
+    EXPECT_NE(keep_before.find("3|"), std::string::npos) << keep_before;
+    EXPECT_EQ(dumps[1], dumps[0]);
+}
+
+// A writer in place that stops before its commit (a failure, an interrupt) leaves the existing
+// file as it was: the rows went into its transaction, which is rolled back.
+TEST(GpkgRows, RowsInPlaceAreRolledBackWithoutACommit)
+{
+    test::ScratchDir dir;
+    const std::string path = (dir.path() / "out.gpkg").string();
+    existing_out(path);
+    const std::string before = dump_out(path);
+    {
+        Source s = memory_source(wkbPolygon, usual_fields());
+        WriteOptions options;
+        options.path = path;
+        options.overwrite = true;
+        LayerWriter writer(options, *s.layer);
+        ASSERT_NE(writer.rows(0), nullptr) << "the replaced layer takes rows";
+        OGRFeature f(s.layer->GetLayerDefn());
+        for (const Item& item : polygonal_items(false)) {
+            const auto* g = std::get_if<Geometry>(&item.geometry);
+            if (g == nullptr) {
+                continue; // passed through: GDAL's path
+            }
+            fill(f, item.fid);
+            GpkgGeometry blob;
+            GpkgValues values;
+            encode_gpkg(*g, item.like, writer.rows(0)->srs_id(), blob);
+            writer.rows(0)->take(f, item.fid, values);
+            writer.write_row(0, values, blob);
+        }
+        writer.flush_rows(); // the rows are in the file's transaction, not only in the batch
+    }
+    EXPECT_EQ(dump_out(path), before);
 }
 
 } // namespace

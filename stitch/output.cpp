@@ -161,7 +161,7 @@ Geometry OutputMerger::Impl::build(const detail::CleanFeature& cf, bool has_z, s
     }
     // The edges in one vector of the size they need (a feature across every tile, as Natural
     // Earth's land, has ~0.4 M of 48 bytes), each piece's freed once taken: fresh memory costs
-    // page faults, ~1 ms a MiB on the team's VM (REPORT.md, "The stitch's memory").
+    // page faults, ~2 ms a MB on the team's VM (REPORT.md, "The stitch's memory").
     const auto is_edges = [&](const Piece& p) { return p.whole || !cf.polygonal; };
     std::size_t total = 0;
     for (const Piece& p : pieces) {

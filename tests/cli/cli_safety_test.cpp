@@ -293,6 +293,41 @@ TEST_P(CliInputChanged, DuringTheRunStopsTheWriteAndLeavesNothing)
 
 INSTANTIATE_TEST_SUITE_P(Threads, CliInputChanged, ::testing::Values(1, 2));
 
+// A work file changed between the stitch and the write (the run stops itself after the stitch;
+// records.bin is edited): its first entry, a feature the tiles snapped, now says the feature
+// passes through, so the stitched features no longer line up with the records. The write phase
+// stops with one line saying the work files are damaged, exit 1, nothing at OUT; on two threads
+// the stitched features are read on a thread of their own (app/handoff.hpp).
+TEST_P(CliInputChanged, WorkFilesOutOfStepWithTheRecordsAreDamaged)
+{
+    const std::string in = dir.path("in.gpkg");
+    write_fixture(in, "GPKG", "parcels", 3857, wkbPolygon, many_squares(200));
+    const std::string out = dir.path("out.gpkg");
+    const std::string work = dir.path("work");
+    const ScopedEnv hook("TRISNAP_TEST_RAISE", "stitch:SIGSTOP");
+    const pid_t pid = spawn_trisnap(dir, {"snap", in, out, "--tolerance", "0.01", "--threads", std::to_string(GetParam()),
+                                          "--work-dir", work, "-q"});
+    ASSERT_TRUE(wait_until_stopped(pid)) << "the run did not reach the end of its stitch";
+    {
+        // An entry: the FID (8 bytes), the verdict (0 passes through, 1 snapped; bit 7: a
+        // problem), the geometry type (4 bytes). app/phases.hpp, RecordEntry.
+        std::fstream records(work + "/records.bin", std::ios::in | std::ios::out | std::ios::binary);
+        ASSERT_TRUE(records) << "no records.bin in " << work;
+        char verdict = 0;
+        records.seekg(8);
+        records.read(&verdict, 1);
+        ASSERT_EQ(verdict & 0x7f, 1) << "the first feature was snapped";
+        verdict = static_cast<char>(verdict & 0x80);
+        records.seekp(8);
+        records.write(&verdict, 1);
+        ASSERT_TRUE(records.flush());
+    }
+    kill(pid, SIGCONT);
+    const RunOutput r = wait_trisnap(dir, pid);
+    expect_error(r, 1, "damaged work files: the stitched features do not line up with records.bin");
+    EXPECT_FALSE(fs::exists(out));
+}
+
 /// A full disk for every format: RLIMIT_FSIZE makes writes past 192 KiB fail like ENOSPC.
 class CliDiskFull : public ::testing::TestWithParam<std::string> {
 protected:

@@ -61,6 +61,29 @@ Loaded* load(const Layer& l)
     return slot.get();
 }
 
+/// The layer, or nullptr when its data set is absent (the benchmark then skips with a message).
+Loaded* load_or_skip(benchmark::State& state, const Layer& l)
+{
+    Loaded* d = load(l);
+    if (d->features.empty()) {
+        state.SkipWithError((std::string("data set absent: ") + l.file).c_str());
+        return nullptr;
+    }
+    return d;
+}
+
+/// The layer spooled into `store` as the read phase spools it.
+stitch::SpoolMeta spool_layer(tiling::WorkStore& store, const std::vector<Feature>& features, double tolerance,
+                              std::size_t sample_cap, std::size_t fid_buffer)
+{
+    stitch::FeatureSpool spool(store, tolerance, sample_cap, fid_buffer);
+    std::vector<Problem> problems;
+    for (std::size_t i = 0; i < features.size(); ++i) {
+        spool.add(i, features[i].id, features[i].geometry, problems);
+    }
+    return spool.finish();
+}
+
 double identical_share(Loaded& d, const SnapOptions& o)
 {
     if (d.identical >= 0) return d.identical;
@@ -75,9 +98,8 @@ double identical_share(Loaded& d, const SnapOptions& o)
 
 void BM_Tiling(benchmark::State& state, Layer l, int threads)
 {
-    Loaded* d = load(l);
-    if (d->features.empty()) {
-        state.SkipWithError((std::string("data set absent: ") + l.file).c_str());
+    Loaded* d = load_or_skip(state, l);
+    if (d == nullptr) {
         return;
     }
     SnapOptions o;
@@ -108,21 +130,12 @@ void BM_Tiling(benchmark::State& state, Layer l, int threads)
 // it and fills the buckets again, as the spool phase does (make_buckets() clears them first).
 void BM_Spool(benchmark::State& state, Layer l)
 {
-    Loaded* d = load(l);
-    if (d->features.empty()) {
-        state.SkipWithError((std::string("data set absent: ") + l.file).c_str());
+    Loaded* d = load_or_skip(state, l);
+    if (d == nullptr) {
         return;
     }
     const std::unique_ptr<tiling::WorkStore> store = tiling::make_memory_store();
-    stitch::SpoolMeta meta;
-    {
-        stitch::FeatureSpool spool(*store, l.tolerance, std::size_t{16} << 20, std::size_t{1} << 30);
-        std::vector<Problem> problems;
-        for (std::size_t i = 0; i < d->features.size(); ++i) {
-            spool.add(i, d->features[i].id, d->features[i].geometry, problems);
-        }
-        meta = spool.finish();
-    }
+    const stitch::SpoolMeta meta = spool_layer(*store, d->features, l.tolerance, std::size_t{16} << 20, std::size_t{1} << 30);
     std::uint64_t to_snap = 0; // spooled and not rejected by the cleaning: each in a bucket at least
     {
         stitch::SpooledFeatures in(*store);
@@ -163,21 +176,17 @@ void BM_Spool(benchmark::State& state, Layer l)
 // memory"). Counters: assembled (features traced again), copied (taken whole from one tile).
 void BM_Stitch(benchmark::State& state, Layer l)
 {
-    Loaded* d = load(l);
-    if (d->features.empty()) {
-        state.SkipWithError((std::string("data set absent: ") + l.file).c_str());
+    Loaded* d = load_or_skip(state, l);
+    if (d == nullptr) {
         return;
     }
     SnapOptions o;
     o.tolerance = l.tolerance;
     const stitch::TilingOptions tiling;
     const std::unique_ptr<tiling::WorkStore> store = tiling::make_memory_store();
-    std::vector<Problem> problems;
-    stitch::FeatureSpool spool(*store, o.tolerance, std::numeric_limits<std::size_t>::max(), std::numeric_limits<std::size_t>::max());
-    for (std::size_t i = 0; i < d->features.size(); ++i) {
-        spool.add(i, d->features[i].id, d->features[i].geometry, problems);
-    }
-    stitch::SpoolMeta meta = spool.finish();
+    // Caps as snap_tiled's: the whole sample and every FID in memory.
+    stitch::SpoolMeta meta = spool_layer(*store, d->features, o.tolerance, std::numeric_limits<std::size_t>::max(),
+                                         std::numeric_limits<std::size_t>::max());
     stitch::ScheduleOptions schedule;
     schedule.threads = 1;
     stitch::TiledRun run(*store, o, tiling, schedule);

@@ -195,6 +195,18 @@ void fill(OGRFeature& f, std::int64_t fid)
     f.SetField(4, k % 2);
 }
 
+/// An engine result written as the write phase writes it into a layer that takes rows: its blob
+/// encoded, the feature's values taken, the row queued.
+void write_as_row(LayerWriter& writer, std::size_t k, const OGRFeature& f, std::int64_t fid, const Geometry& g,
+                  OGRwkbGeometryType like)
+{
+    GpkgGeometry blob;
+    GpkgValues values;
+    encode_gpkg(g, like, writer.rows(k)->srs_id(), blob);
+    writer.rows(k)->take(f, fid, values);
+    writer.write_row(k, values, blob);
+}
+
 /// Writes `items` to `path` as the write phase would: rows where the layer takes them.
 void write_items(const std::string& path, OGRwkbGeometryType type, const std::vector<Item>& items, bool rows,
                  bool renumber, bool* took_rows = nullptr, bool overwrite = false)
@@ -217,10 +229,7 @@ void write_items(const std::string& path, OGRwkbGeometryType type, const std::ve
         std::string error;
         if (const auto* g = std::get_if<Geometry>(&item.geometry)) {
             if (r != nullptr) {
-                encode_gpkg(*g, item.like, r->srs_id(), blob);
-                GpkgValues values;
-                r->take(f, item.fid, values);
-                writer.write_row(0, values, blob);
+                write_as_row(writer, 0, f, item.fid, *g, item.like);
             } else {
                 error = writer.write(0, f, item.fid, to_ogr(*g, item.like));
             }
@@ -417,11 +426,7 @@ Written write_fids(const std::string& path, const std::vector<std::int64_t>& fid
         const double x = static_cast<double>(fid % 97);
         const Geometry g = polygons(false, {Polygon{{ring({{x, 0, 0}, {x + 1, 0, 0}, {x + 1, 1, 0}})}}});
         if (rows) {
-            GpkgGeometry blob;
-            GpkgValues values;
-            encode_gpkg(g, wkbPolygon, writer.rows(0)->srs_id(), blob);
-            writer.rows(0)->take(f, fid, values);
-            writer.write_row(0, values, blob);
+            write_as_row(writer, 0, f, fid, g, wkbPolygon);
         } else if (std::string error = writer.write(0, f, fid, to_ogr(g, wkbPolygon)); !error.empty()) {
             w.refused.emplace_back(fid, error);
         }
@@ -500,11 +505,7 @@ TEST(GpkgRows, SeveralLayersInOneFileHoldGdalsRows)
                 const double x = static_cast<double>(fid) + 100.0 * static_cast<double>(k);
                 const Geometry g = polygons(false, {Polygon{{ring({{x, 0, 0}, {x + 1, 0, 0}, {x + 1, 1, 0}})}}});
                 if (rows == 1) {
-                    GpkgGeometry blob;
-                    GpkgValues values;
-                    encode_gpkg(g, wkbPolygon, writer.rows(k)->srs_id(), blob);
-                    writer.rows(k)->take(f, fid, values);
-                    writer.write_row(k, values, blob);
+                    write_as_row(writer, k, f, fid, g, wkbPolygon);
                 } else {
                     ASSERT_EQ(writer.write(k, f, fid, to_ogr(g, wkbPolygon)), "");
                 }
@@ -603,11 +604,7 @@ TEST(GpkgRows, RowsInPlaceAreRolledBackWithoutACommit)
                 continue; // passed through: GDAL's path
             }
             fill(f, item.fid);
-            GpkgGeometry blob;
-            GpkgValues values;
-            encode_gpkg(*g, item.like, writer.rows(0)->srs_id(), blob);
-            writer.rows(0)->take(f, item.fid, values);
-            writer.write_row(0, values, blob);
+            write_as_row(writer, 0, f, item.fid, *g, item.like);
         }
         writer.flush_rows(); // the rows are in the file's transaction, not only in the batch
     }

@@ -21,7 +21,7 @@ constexpr std::array k_catalogue{
     ProblemInfo{ProblemCode::collapsed_line, "collapsed_line", "line shorter than the tolerance vanished entirely"},
     ProblemInfo{ProblemCode::part_removed, "part_removed", "some polygon or line parts vanished, others remain"},
     ProblemInfo{ProblemCode::hole_removed, "hole_removed", "a hole thinner than the tolerance closed"},
-    ProblemInfo{ProblemCode::not_converged, "not_converged", "operation cap reached before the fix-point; separation may not hold here"},
+    ProblemInfo{ProblemCode::not_converged, "not_converged", "operation cap reached before the fix-point; separation may not hold here, and two features both flagged may overlap"},
     ProblemInfo{ProblemCode::drift_exceeded, "drift_exceeded", "a vertex moved further than max_drift_factor x tolerance"},
     ProblemInfo{ProblemCode::separation_not_reached, "separation_not_reached", "the requested edge separation does not hold at this place"},
     ProblemInfo{ProblemCode::topology_changed, "topology_changed", "a neck thinner than the tolerance collapsed: the feature split into more parts or holes"},

@@ -2,7 +2,8 @@
 // (fuzz_snap_decode.hpp) at arbitrary tolerances. Options the engine refuses (validate()) end
 // the input. Every accepted input is checked with the independent contract checker
 // (tests/support): valid output, vertex-vertex >= t, vertex-edge >= edge_separation*t, every
-// feature in the output or excused by a "not written" problem, no new overlaps; any breach
+// feature in the output or excused by a "not written" problem, no new overlaps (a fold between two
+// features that both carry 205 counts apart: the checker's unfinished_codes); any breach
 // prints the input and aborts, so libFuzzer keeps it as a crash.
 // TRISNAP_FUZZ_PRINT=1 prints each decoded input and its problems (to read a corpus entry).
 // Drift (Hausdorff) is not judged here: on arbitrary tangles the engine reports its own drift
@@ -14,6 +15,8 @@
 // an empty output, which the shared-boundary check leaves out anyway.)
 #include "fuzz_snap_decode.hpp"
 #include "snap_harness.hpp"
+
+#include "core/wkt.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -109,9 +112,19 @@ ContractReport check_scaled(const fuzz::SnapProblem& problem, const SnapResult& 
 [[noreturn]] void report_breach(const fuzz::SnapProblem& problem, const SnapResult& result,
                                 const ContractReport& report)
 {
-    std::fprintf(stderr, "fuzz_snap: contract breached (checked with coordinates and t scaled by 2^%d)\n%s\nproblems:\n%s\ninput:\n%s",
-                 checker_exponent(problem.options.tolerance), report.summary().c_str(), problem_lines(result.problems).c_str(),
-                 fuzz::describe(problem).c_str());
+    const int k = checker_exponent(problem.options.tolerance);
+    std::string scaled_input;
+    for (const Feature& f : scaled(problem.features, k)) {
+        scaled_input += std::to_string(f.id) + ";" + to_wkt(f.geometry) + "\n";
+    }
+    std::string scaled_output;
+    for (const FeatureOutput& f : scaled(result, k).features) {
+        scaled_output += std::to_string(f.id) + ";" + to_wkt(f.geometry) + "\n";
+    }
+    std::fprintf(stderr, "fuzz_snap: contract breached (checked with coordinates and t scaled by 2^%d)\n%s\nproblems:\n%s\ninput:\n%s"
+                 "input scaled by 2^%d:\n%soutput scaled by 2^%d:\n%s",
+                 k, report.summary().c_str(), problem_lines(result.problems).c_str(), fuzz::describe(problem).c_str(), k,
+                 scaled_input.c_str(), k, scaled_output.c_str());
     std::abort();
 }
 

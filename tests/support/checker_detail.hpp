@@ -36,9 +36,9 @@ void measure_hausdorff(const Side& in, const Side& out, double t,
                        const std::vector<std::int64_t>& exempt, ContractReport& report,
                        Examples& examples);
 
-/// n_overlaps_new and n_shared_lost.
+/// n_overlaps_new(_reported) and n_shared_lost(_reported).
 void check_pairs(GeosContext& ctx, const Side& in, const Side& out, double t,
                  const std::vector<std::int64_t>& exempt, const std::vector<std::int64_t>& lost_reported,
-                 ContractReport& report, Examples& examples);
+                 const std::vector<std::int64_t>& unfinished, ContractReport& report, Examples& examples);
 
 } // namespace trisnap::checker_detail

@@ -148,7 +148,8 @@ ContractReport check_contract(const std::vector<CheckedFeature>& input,
     check_validity(ctx, in, out, report, examples);
     measure_spacing(out, tolerance, rules.edge_factor, report, examples);
     measure_hausdorff(in, out, tolerance, exempt, report, examples);
-    check_pairs(ctx, in, out, tolerance, exempt, ids_with(problems, rules.lost_boundary_codes), report, examples);
+    check_pairs(ctx, in, out, tolerance, exempt, ids_with(problems, rules.lost_boundary_codes),
+                ids_with(problems, rules.unfinished_codes), report, examples);
     return report;
 }
 
@@ -171,7 +172,7 @@ std::string ContractReport::summary() const {
     std::ostringstream s;
     s << "contract at t=" << tolerance << ": " << n_in << " in, " << n_out << " out, "
       << n_missing << " missing, " << n_invalid << " invalid, " << n_overlaps_new
-      << " new overlaps, " << n_shared_lost << " shared boundaries lost (" << n_shared_lost_reported
+      << " new overlaps (" << n_overlaps_new_reported << " more where the run stopped short), " << n_shared_lost << " shared boundaries lost (" << n_shared_lost_reported
       << " more reported), " << n_flagged
       << " flagged (at most " << max_flagged << " allowed)\n"
       << "  min vertex-vertex " << min_text(min_vertex_vertex, t) << " (" << n_close_vertex_pairs

@@ -20,9 +20,12 @@
 //  - min_vertex_edge: smallest distance from an output vertex to an output segment it is not an
 //    endpoint of (exact coordinate equality decides "endpoint of");
 //  - max_hausdorff: largest symmetric Hausdorff distance between a feature's input and output;
-//  - n_overlaps_new: output polygon pairs overlapping with area > 1e-9 t^2 whose inputs did not;
+//  - n_overlaps_new: output polygon pairs overlapping with area > 1e-9 t^2 whose inputs did not,
+//    except pairs where both features carry a code saying the run stopped before its fix-point
+//    there (ContractRules::unfinished_codes): those count in n_overlaps_new_reported;
 //  - n_shared_lost: input polygon pairs sharing > t/2 of boundary whose outputs share no
-//    boundary of positive length any more, or now overlap. Pairs where either output is empty
+//    boundary of positive length any more, or now overlap (unless both carry an unfinished code:
+//    that overlap is counted once, in n_overlaps_new_reported). Pairs where either output is empty
 //    (collapsed, and reported as a problem) are not counted; a lost pair the engine reported
 //    (ContractRules::lost_boundary_codes) counts in n_shared_lost_reported instead.
 // Distances are searched up to 2t: when no pair is closer, the minimum is reported as +infinity.
@@ -64,6 +67,11 @@ struct ContractRules {
     /// (not one that now overlaps) with such a code on either feature counts in
     /// n_shared_lost_reported instead of n_shared_lost. Each case states how many it expects.
     std::vector<int> lost_boundary_codes;
+    /// Codes saying the run stopped before its fix-point where the feature is (the engine's
+    /// operation cap): a new overlap between two features that BOTH carry such a code counts in
+    /// n_overlaps_new_reported instead of n_overlaps_new. A run stopped between two edits can
+    /// hold a fold the next edit would have closed; one of the two features alone does not excuse it.
+    std::vector<int> unfinished_codes;
 };
 
 struct ContractReport {
@@ -75,6 +83,7 @@ struct ContractReport {
     std::size_t max_flagged = 0; ///< as the rules allowed
     std::size_t n_invalid = 0;
     std::size_t n_overlaps_new = 0;
+    std::size_t n_overlaps_new_reported = 0; ///< new, between two features with an unfinished code
     std::size_t n_shared_lost = 0;
     std::size_t n_shared_lost_reported = 0; ///< lost, with a lost_boundary_codes problem on either
     std::size_t n_close_vertex_pairs = 0; ///< distinct vertex pairs closer than t

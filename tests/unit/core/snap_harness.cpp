@@ -77,6 +77,9 @@ ContractRules engine_rules(const SnapOptions& options, std::size_t max_flagged) 
     rules.not_written_codes = not_written_codes();
     rules.drift_codes = drift_codes();
     rules.lost_boundary_codes = lost_boundary_codes();
+    // A run the operation cap stopped is written as it stood (205 on the features near what was
+    // still too close); a fold between two such features is the one case an unfinished run may hold.
+    rules.unfinished_codes = code_numbers({ProblemCode::not_converged});
     rules.max_flagged = max_flagged;
     return rules;
 }

@@ -213,6 +213,28 @@ TEST(ContractChecker, AReportedLostBoundaryCountsApart) {
     EXPECT_EQ(overlapping.n_shared_lost_reported, 0u);
 }
 
+// A new overlap between two features that both carry an unfinished code (the run stopped before
+// its fix-point there) counts apart; the code on one of them only, or on a third, excuses nothing.
+TEST(ContractChecker, ANewOverlapBetweenTwoUnfinishedFeaturesCountsApart) {
+    ContractRules rules;
+    rules.unfinished_codes = {205};
+    const std::vector<CheckedFeature> overlap{{1, box(0, 0, 10, 10)}, {2, box(9, 0, 19, 10)}};
+    const ContractReport both = check_contract(neighbours(), overlap, {{1, 205}, {2, 205}}, t, rules);
+    EXPECT_EQ(both.n_overlaps_new, 0u) << both.summary();
+    EXPECT_EQ(both.n_overlaps_new_reported, 1u);
+    EXPECT_EQ(both.n_shared_lost, 0u) << "still shared, folded where the run stopped: counted once, apart";
+    EXPECT_NE(both.summary().find("0 new overlaps (1 more where the run stopped short)"), std::string::npos)
+        << both.summary();
+    for (const std::vector<ReportedProblem>& some : {std::vector<ReportedProblem>{{1, 205}},
+                                                     std::vector<ReportedProblem>{{2, 205}, {3, 205}},
+                                                     std::vector<ReportedProblem>{{1, 210}, {2, 210}}}) {
+        const ContractReport r = check_contract(neighbours(), overlap, some, t, rules);
+        EXPECT_EQ(r.n_overlaps_new, 1u) << r.summary();
+        EXPECT_EQ(r.n_overlaps_new_reported, 0u);
+        EXPECT_EQ(r.n_shared_lost, 1u) << "the boundary they shared now overlaps";
+    }
+}
+
 TEST(ContractChecker, OverlappingOutputsAreNew) {
     const ContractReport r =
         check_contract(neighbours(), {{1, box(0, 0, 10, 10)}, {2, box(9, 0, 19, 10)}}, t);

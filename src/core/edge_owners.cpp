@@ -156,34 +156,40 @@ void EdgeOwners::take(std::uint32_t from, std::uint32_t to, std::vector<OwnerRef
     erase_slot(s);
 }
 
+// Only the edges with a renamed end move: they are taken out first (backward shift, as take()),
+// then put in under their new keys, so a new key never meets an old one still in the table (a
+// renaming is one-to-one). The full rebuild this replaces copied the whole table (16 bytes an
+// edge: 29 MB on Andorra x43 untiled) for the few edges at crossing vertices, 3 % of Natural Earth
+// countries' run.
 void EdgeOwners::rename(const std::vector<std::uint32_t>& rename)
 {
     auto renamed = [&](std::uint32_t id) { return id < rename.size() ? rename[id] : id; };
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> all;
-    all.reserve(m_count);
-    for (std::size_t s = 0; s < m_keys.size(); ++s) {
-        if (m_keys[s] == k_empty) {
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> moved; // old key, new key
+    for (const std::uint64_t k : m_keys) {
+        if (k == k_empty) {
             continue;
         }
-        const auto u = static_cast<std::uint32_t>(m_keys[s] >> 32);
-        const auto v = static_cast<std::uint32_t>(m_keys[s]);
-        const std::uint32_t nu = renamed(u);
-        const std::uint32_t nv = renamed(v);
-        if (nu > nv) { // the lower end changed: every entry's direction bit flips
-            for (std::uint32_t n = m_heads[s]; n != k_none; n = m_nodes[n].next) {
+        const auto u = static_cast<std::uint32_t>(k >> 32);
+        const auto v = static_cast<std::uint32_t>(k);
+        if (renamed(u) != u || renamed(v) != v) {
+            moved.emplace_back(k, key(renamed(u), renamed(v)));
+        }
+    }
+    std::vector<std::uint32_t> heads(moved.size());
+    for (std::size_t i = 0; i < moved.size(); ++i) {
+        const std::size_t s = find(moved[i].first);
+        heads[i] = m_heads[s];
+        const auto u = static_cast<std::uint32_t>(moved[i].first >> 32);
+        const auto v = static_cast<std::uint32_t>(moved[i].first);
+        if (renamed(u) > renamed(v)) { // the lower end changed: every entry's direction bit flips
+            for (std::uint32_t n = heads[i]; n != k_none; n = m_nodes[n].next) {
                 m_nodes[n].packed ^= 1u;
             }
         }
-        all.emplace_back(key(nu, nv), m_heads[s]);
+        erase_slot(s);
     }
-    std::fill(m_keys.begin(), m_keys.end(), k_empty);
-    for (const auto& [k, head] : all) {
-        std::size_t s = slot_of(k);
-        while (m_keys[s] != k_empty) {
-            s = next(s);
-        }
-        m_keys[s] = k;
-        m_heads[s] = head;
+    for (std::size_t i = 0; i < moved.size(); ++i) {
+        m_heads[find_or_insert(moved[i].second)] = heads[i];
     }
 }
 

@@ -119,10 +119,13 @@ void run_edits(EdgeOwners& table, std::uint32_t vertices, int steps, std::uint64
                 EXPECT_TRUE(got.empty());
             }
         } else {
-            // Ids swapped in pairs (a permutation, as the engine's renaming of crossings is).
+            // A permutation of every id, or of the upper half only (the engine renames the
+            // crossing vertices, numbered after the input points): edges between kept ids,
+            // between a kept and a renamed id, and between renamed ids.
             std::vector<std::uint32_t> rename(vertices);
             for (std::uint32_t i = 0; i < vertices; ++i) rename[i] = i;
-            std::shuffle(rename.begin(), rename.end(), rng);
+            const std::uint32_t first = (rng() & 1) != 0 ? 0 : vertices / 2;
+            std::shuffle(rename.begin() + first, rename.end(), rng);
             table.rename(rename);
             Reference renamed;
             for (const auto& [k, entries] : ref) {

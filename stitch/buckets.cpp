@@ -471,7 +471,9 @@ void BucketMaker::split_oversize()
 
 TileLayout BucketMaker::run(tiling::PlanInput sample)
 {
-    m_layout.plan = tiling::make_plan(std::move(sample), m_tiling.plan);
+    tiling::PlanOptions plan = m_tiling.plan;
+    plan.halo = m_options.halo; // no cut that only copies a band of halo into both halves
+    m_layout.plan = tiling::make_plan(std::move(sample), plan);
     m_layout.halo = m_options.halo;
     m_layout.seam_band = m_options.seam_band;
     m_store.remove_all("bucket-");

@@ -159,7 +159,7 @@ TilePlan TilePlan::load(ByteReader& r)
 // Median split of the longer side of the vertices' box; the median value does not depend on
 // the order of the input, so neither does the plan.
 int TilePlan::build_balanced(std::vector<double>& xs, std::vector<double>& ys, std::vector<double>& scratch,
-                             std::size_t lo, std::size_t hi, const Region& r, std::size_t budget, int depth)
+                             std::size_t lo, std::size_t hi, const Region& r, std::size_t budget, double halo, int depth)
 {
     if (hi - lo <= budget || depth > 40) return add_leaf(r);
     Box b;
@@ -173,6 +173,20 @@ int TilePlan::build_balanced(std::vector<double>& xs, std::vector<double>& ys, s
     std::nth_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(mid - lo), scratch.end());
     const double split = scratch[mid - lo];
     if (!(split > (axis == 0 ? b.xmin : b.ymin))) return add_leaf(r); // all on one coordinate
+    if (halo > 0) {
+        // Each half with the other's vertices within the halo of the cut (PlanOptions::halo).
+        std::size_t lower = 0, lower_band = 0, upper_band = 0;
+        for (std::size_t i = lo; i < hi; ++i) {
+            if (key[i] < split) {
+                ++lower;
+                lower_band += key[i] >= split - halo ? 1 : 0;
+            } else {
+                upper_band += key[i] < split + halo ? 1 : 0;
+            }
+        }
+        const std::size_t n = hi - lo;
+        if (4 * std::max(lower + upper_band, n - lower + lower_band) > 3 * n) return add_leaf(r);
+    }
     // Partition both arrays by key < split, keeping pairs together.
     std::size_t m = lo;
     for (std::size_t i = lo; i < hi; ++i)
@@ -182,8 +196,8 @@ int TilePlan::build_balanced(std::vector<double>& xs, std::vector<double>& ys, s
     (axis == 0 ? right.xmin : right.ymin) = split;
     const int self = static_cast<int>(m_nodes.size());
     m_nodes.push_back(Node{axis, split, -1, -1, 0});
-    const int l = build_balanced(xs, ys, scratch, lo, m, left, budget, depth + 1);
-    const int rr = build_balanced(xs, ys, scratch, m, hi, right, budget, depth + 1);
+    const int l = build_balanced(xs, ys, scratch, lo, m, left, budget, halo, depth + 1);
+    const int rr = build_balanced(xs, ys, scratch, m, hi, right, budget, halo, depth + 1);
     m_nodes[static_cast<std::size_t>(self)].left = l;
     m_nodes[static_cast<std::size_t>(self)].right = rr;
     return self;
@@ -233,7 +247,8 @@ TilePlan make_plan(PlanInput input, const PlanOptions& options)
         const std::size_t budget = std::max<std::size_t>(options.vertex_budget, 16) >> input.level;
         std::vector<double> scratch;
         scratch.reserve(input.xs.size());
-        plan.build_balanced(input.xs, input.ys, scratch, 0, input.xs.size(), everything, std::max<std::size_t>(budget, 1), 0);
+        plan.build_balanced(input.xs, input.ys, scratch, 0, input.xs.size(), everything, std::max<std::size_t>(budget, 1),
+                             options.halo, 0);
     }
     plan.m_leaf_vertices.assign(plan.size(), 0);
     return plan;

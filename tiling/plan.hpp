@@ -67,6 +67,12 @@ struct PlanOptions {
     double tile_size = 0.0;
     /// One tile (`--no-tiles`).
     bool single = false;
+    /// Balanced plan: the halo width (layer units) the tiles will be snapped with. A cut is not
+    /// made when a half would hold more than 3/4 of the tile's vertices with the other half's
+    /// vertices within `halo` of the cut (its halo): at a tolerance near the features' size that
+    /// band is most of the tile, and cutting only copies it (NJ shore at 0.003 degrees: 8 tiles
+    /// held 3.7 times the layer and the run took 3.4 times the untiled one). 0: cut by count only.
+    double halo = 0.0;
 };
 
 class TilePlan {
@@ -100,7 +106,7 @@ private:
         std::size_t leaf = 0;
     };
     int build_balanced(std::vector<double>& xs, std::vector<double>& ys, std::vector<double>& scratch, std::size_t lo,
-                       std::size_t hi, const Region& r, std::size_t budget, int depth);
+                       std::size_t hi, const Region& r, std::size_t budget, double halo, int depth);
     int build_grid(long c0, long c1, long r0, long r1, const Region& r, double size, double ox, double oy);
     int add_leaf(const Region& r);
     void query(int node, const Box& b, std::vector<std::size_t>& out) const;

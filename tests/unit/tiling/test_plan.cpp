@@ -35,6 +35,47 @@ Path spiral_band(double inner, int steps)
     return ring;
 }
 
+// A cut is not made where each half would take more than 3/4 of the tile's vertices once the
+// other half's band within the halo of the cut is added (PlanOptions::halo): a 300 x 300
+// coverage of 10-wide cells cut into tiles of <= 400 vertices is many tiles at a halo of 2, and
+// at a halo of 80 (more than a quarter of the layer on each side of a cut) the first cut already
+// copies more than that, so the plan is one tile. At 40 the cuts of 150-wide tiles are not made,
+// and the tiles with their halos hold fewer copies of the vertices than the plan by count.
+TEST(TilePlan, NoCutThatOnlyCopiesItsHaloBand)
+{
+    const auto features = perturbed_grid_coverage(30, 30, 10.0, 0.2, 1);
+    tiling::PlanOptions o;
+    o.vertex_budget = 400;
+    const std::size_t by_count = tiling::make_plan(features, o).size();
+    o.halo = 2.0;
+    EXPECT_EQ(tiling::make_plan(features, o).size(), by_count) << "a thin halo changes nothing";
+    o.halo = 80.0;
+    EXPECT_EQ(tiling::make_plan(features, o).size(), 1u);
+    o.halo = 40.0; // cuts of the 300-long sides copy 13 %, of the 150-long ones 27 %
+    const tiling::TilePlan plan = tiling::make_plan(features, o);
+    EXPECT_GT(plan.size(), 1u);
+    EXPECT_LT(plan.size(), by_count);
+    // Each leaf with the vertices within the halo around its core, against the layer.
+    std::vector<Coord> points;
+    for (const Feature& f : features)
+        for (const Polygon& p : f.geometry.polygons)
+            for (const Path& r : p.rings) points.insert(points.end(), r.begin(), r.end());
+    const auto load = [&](const tiling::TilePlan& pl) {
+        std::size_t n = 0;
+        for (std::size_t k = 0; k < pl.size(); ++k) {
+            const Region& c = pl.core(k);
+            for (const Coord& q : points)
+                n += q.x >= c.xmin - o.halo && q.x <= c.xmax + o.halo && q.y >= c.ymin - o.halo && q.y <= c.ymax + o.halo;
+        }
+        return n;
+    };
+    tiling::PlanOptions count_only = o;
+    count_only.halo = 0;
+    const std::size_t copies = load(plan), copies_by_count = load(tiling::make_plan(features, count_only));
+    EXPECT_LT(copies, copies_by_count);
+    EXPECT_LE(copies, 3 * points.size()) << copies_by_count << " by count";
+}
+
 TEST(TilePlan, EveryPointHasExactlyOneOwnerAndQueriesAgree)
 {
     const auto features = perturbed_grid_coverage(30, 30, 10.0, 0.2, 1);

@@ -9,6 +9,7 @@
 #include "core/cdt_types.hpp"
 #include "core/edge_owners.hpp"
 #include "core/input_cleaning.hpp"
+#include "core/long_edges.hpp"
 #include "core/work_meter.hpp"
 
 #include <algorithm>
@@ -105,7 +106,8 @@ public:
     /// Constrained edges at least this long (squared) are "long"; the mesh counts them as edits
     /// make and remove edges. The snapper sets the length below which no edge can give a split
     /// event; while no edge is that long, search_point's nearest-only walk need not reach the
-    /// edge radius (see there). 0 (the default) counts every edge.
+    /// edge radius (see there), nor once the long edges are in their grid (core/long_edges.hpp).
+    /// 0 (the default) counts every edge.
     void set_long_edge_length2(double len2);
     std::size_t long_edges() const { return m_long_edges; }
     /// The bounds on CGAL's edits (core/mesh_hubs.cpp): above `hub_degree` a vertex is removed by
@@ -214,7 +216,10 @@ public:
     {
         std::vector<std::uint32_t>().swap(m_vertex_stamp);
         std::vector<double>().swap(m_vertex_d2);
+        drop_long_index(false);
     }
+    /// Whether the long edges are in a grid (core/long_edges.hpp; for the tests).
+    bool long_edges_indexed() const { return m_long_indexed; }
 
 private:
     struct Job {
@@ -288,8 +293,18 @@ private:
         const double dy = m_vertices[a].y - m_vertices[b].y;
         if (dx * dx + dy * dy >= m_long2) {
             m_long_edges += static_cast<std::size_t>(delta);
+            if (m_long_indexed) {
+                index_long_edge(a, b, delta);
+            }
         }
     }
+    // mesh_search.cpp: the long edges' grid, built once walks held at the edge radius grow
+    // costly (see search_point), then kept up to date by count_edge().
+    void add_long_edges_near(std::uint32_t v, double r2_edge, std::vector<EdgeHit>& edges) const;
+    void note_floored_walk(std::size_t faces, double r2_edge);
+    void build_long_index(double r2_edge);
+    void index_long_edge(std::uint32_t a, std::uint32_t b, int delta);
+    void drop_long_index(bool for_good);
     std::uint32_t next_stamp();
     void ensure_search_scratch();
 
@@ -317,6 +332,12 @@ private:
     std::size_t m_removal_work = 0;
     double m_long2 = 0;
     std::size_t m_long_edges = 0;
+    LongEdgeIndex m_long_index;
+    bool m_long_indexed = false;     ///< m_long_index holds every long edge but m_long_apart
+    bool m_long_index_tried = false; ///< built, or found not worth it, once this run
+    std::vector<std::uint64_t> m_long_apart; ///< long edges too long for the grid (a few)
+    std::size_t m_floored_walks = 0; ///< nearest-only walks held at the edge radius, before the grid
+    std::size_t m_floored_faces = 0; ///< and the faces they walked
     double m_ulp_margin = 0; ///< 64 ulps of the largest coordinate (the frame's)
     bool m_non_delaunay = false; ///< a bound left an edge as it was (core/mesh_hubs.cpp)
     std::size_t m_hub_degree = 1024;

@@ -94,9 +94,116 @@ double squared_distance_point_segment(double px, double py, double ax, double ay
 
 void Mesh::set_long_edge_length2(double len2)
 {
+    drop_long_index(false);
+    m_long_index_tried = false;
+    m_floored_walks = 0;
+    m_floored_faces = 0;
     m_long2 = len2;
     m_long_edges = 0;
     m_edge_owners.for_each_edge([&](std::uint32_t a, std::uint32_t b) { count_edge(a, b, 1); });
+}
+
+// Most long edges are indexed; the few too long for the grid (LongEdgeIndex::max_cells) are
+// checked one by one. More than this many of them and the grid is not worth keeping.
+namespace {
+constexpr std::size_t k_max_long_apart = 64;
+}
+
+// Appends the long edges within sqrt(r2_edge) of v that are not at v and not in `edges` yet (the
+// walk met them): from v's cell of the grid and the few edges too long for it. Where v lies
+// beyond the grid's range, every long edge is looked at (LongEdgeIndex::each says so).
+void Mesh::add_long_edges_near(std::uint32_t v, double r2_edge, std::vector<EdgeHit>& edges) const
+{
+    const VertexRecord& rv = m_vertices[v];
+    const std::size_t walked = edges.size();
+    const auto consider = [&](std::uint64_t key) {
+        const auto a = static_cast<std::uint32_t>(key >> 32);
+        const auto b = static_cast<std::uint32_t>(key);
+        if (a == v || b == v) {
+            return;
+        }
+        const VertexRecord& ra = m_vertices[a];
+        const VertexRecord& rb = m_vertices[b];
+        const double d2 = squared_distance_point_segment(rv.x, rv.y, ra.x, ra.y, rb.x, rb.y);
+        if (d2 > r2_edge) {
+            return;
+        }
+        const auto met = std::find_if(edges.begin(), edges.begin() + static_cast<std::ptrdiff_t>(walked),
+                                      [&](const EdgeHit& h) { return h.b == a && h.c == b; });
+        if (met == edges.begin() + static_cast<std::ptrdiff_t>(walked)) {
+            edges.push_back(EdgeHit{d2, a, b});
+        }
+    };
+    if (!m_long_index.each(rv.x, rv.y, consider)) {
+        m_edge_owners.for_each_edge([&](std::uint32_t a, std::uint32_t b) {
+            const double dx = m_vertices[a].x - m_vertices[b].x;
+            const double dy = m_vertices[a].y - m_vertices[b].y;
+            if (dx * dx + dy * dy >= m_long2) {
+                consider(edge_key(a, b));
+            }
+        });
+        return;
+    }
+    std::for_each(m_long_apart.begin(), m_long_apart.end(), consider);
+}
+
+// The grid pays once the walks held at the edge radius average more than 32 faces (a dense
+// layer at a tolerance near its features' size); on real layers at their tolerances they walk a
+// few faces and no grid is built.
+void Mesh::note_floored_walk(std::size_t faces, double r2_edge)
+{
+    ++m_floored_walks;
+    m_floored_faces += faces;
+    if (m_floored_walks >= 256 && m_floored_faces > 32 * m_floored_walks) {
+        build_long_index(r2_edge);
+    }
+}
+
+void Mesh::build_long_index(double r2_edge)
+{
+    m_long_index_tried = true;
+    m_long_index.reset(r2_edge);
+    m_long_apart.clear();
+    m_long_indexed = true;
+    m_edge_owners.for_each_edge([&](std::uint32_t a, std::uint32_t b) {
+        const double dx = m_vertices[a].x - m_vertices[b].x;
+        const double dy = m_vertices[a].y - m_vertices[b].y;
+        if (m_long_indexed && dx * dx + dy * dy >= m_long2) {
+            index_long_edge(a, b, 1);
+        }
+    });
+}
+
+// The lower id's point first, so that insert and erase compute the same cells.
+void Mesh::index_long_edge(std::uint32_t a, std::uint32_t b, int delta)
+{
+    const std::uint32_t lo = std::min(a, b), hi = std::max(a, b);
+    const VertexRecord& rl = m_vertices[lo];
+    const VertexRecord& rh = m_vertices[hi];
+    const std::uint64_t key = edge_key(lo, hi);
+    if (delta > 0) {
+        if (!m_long_index.insert(rl.x, rl.y, rh.x, rh.y, key)) {
+            m_long_apart.push_back(key);
+        }
+    } else if (!m_long_index.erase(rl.x, rl.y, rh.x, rh.y, key)) {
+        const auto at = std::find(m_long_apart.begin(), m_long_apart.end(), key);
+        if (at != m_long_apart.end()) {
+            *at = m_long_apart.back();
+            m_long_apart.pop_back();
+        }
+    }
+    // Bounded memory: at most 8 cell entries per vertex slot (a few per long edge is usual).
+    if (m_long_apart.size() > k_max_long_apart || m_long_index.entries() > 8 * m_vertices.size() + 4096) {
+        drop_long_index(true);
+    }
+}
+
+void Mesh::drop_long_index(bool for_good)
+{
+    m_long_indexed = false;
+    m_long_index_tried = m_long_index_tried || for_good;
+    m_long_index = LongEdgeIndex{};
+    std::vector<std::uint64_t>().swap(m_long_apart);
 }
 
 std::uint32_t Mesh::next_stamp()
@@ -138,8 +245,13 @@ void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
     const std::uint32_t stamp = next_stamp();
     const VertexRecord& rv = m_vertices[v];
     double reach2 = std::max(r2_vertex, r2_edge);
-    // The edge radius bounds the shrinking only while an edge long enough for an event exists.
-    const double floor2 = m_long_edges > 0 ? r2_edge : 0.0;
+    // The edge radius bounds the shrinking only while an edge long enough for an event exists,
+    // until the long edges' grid is built (note_floored_walk): from then on a nearest-only walk
+    // shrinks freely and the long edges within the edge radius come from the grid.
+    const bool from_grid = nearest_only && m_long_edges > 0 && r2_edge > 0 && m_long_indexed &&
+                           r2_edge <= m_long_index.radius2();
+    const double floor2 = m_long_edges > 0 && r2_edge > 0 && !from_grid ? r2_edge : 0.0;
+    const std::size_t faces_before = m_faces_walked;
     double best2 = std::numeric_limits<double>::infinity();
     const auto seg_dist2 = [&](std::uint32_t a, std::uint32_t b) {
         const VertexRecord& ra = m_vertices[a];
@@ -222,6 +334,11 @@ void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
                     return m_vertex_d2[a] <= reach2 || m_vertex_d2[b] <= reach2 || seg_dist2(a, b) <= reach2;
                 },
                 visit_face);
+    if (from_grid) {
+        add_long_edges_near(v, r2_edge, edges);
+    } else if (nearest_only && floor2 > 0 && !m_long_index_tried) {
+        note_floored_walk(m_faces_walked - faces_before, r2_edge);
+    }
 }
 
 void Mesh::search_segment(std::uint32_t b, std::uint32_t c, double r2,

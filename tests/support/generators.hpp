@@ -66,7 +66,8 @@ struct AdversarialCase {
 
 /// Issue 13's adversarial inputs, scaled by `scale` (1: the sizes the issue measured; the slow
 /// test uses smaller ones): random squares at t = 10 sides, a densified square and an exact and a
-/// jittered circle with neighbours closer than t. JTS's ReducePrecisionFailure case comes from
+/// jittered circle with neighbours closer than t, and squares packed denser with the size inside
+/// a frame of long edges. JTS's ReducePrecisionFailure case comes from
 /// ../shared/data and is added by the callers that have it.
 std::vector<AdversarialCase> adversarial_cases(double scale);
 

@@ -84,6 +84,20 @@ std::vector<AdversarialCase> adversarial_cases(double scale) {
     // Spacing 2 pi 20 / 200 k = 6.3e-4, sixteen vertices per t: merged vertices become hubs of
     // the circle's inside (core/mesh_hubs.cpp).
     out.push_back({"circle_dense", {circle(1, scaled(200'000), 20.0 * scale, 0.0, 1)}, 1e-4, 0.01});
+    // Squares packed ever denser in one 30 x 30 box (scale 1: 2,000 of them, 9 vertices per unit
+    // square), inside a frame whose four edges are 110 long. Only an edge longer than about 1.7 t
+    // can give a split, so the nearest-only walks shrank below the edge radius only while no such
+    // edge existed anywhere: with the frame, every walk at t = 10 covered the disk of radius 5
+    // (hundreds of vertices), the way NJ shore's few sea edges made 0.1 degrees take > 300 s.
+    {
+        std::vector<Feature> framed = random_small_squares(scaled(2000), 1.0, 30.0, 11);
+        Feature frame;
+        frame.id = static_cast<std::int64_t>(framed.size()) + 1;
+        frame.geometry.type = Geometry::Type::LineString;
+        frame.geometry.lines.push_back(Path{{-40, -40}, {70, -40}, {70, 70}, {-40, 70}, {-40, -40}});
+        framed.push_back(std::move(frame));
+        out.push_back({"squares_framed", std::move(framed), 0.01, 10.0});
+    }
     return out;
 }
 

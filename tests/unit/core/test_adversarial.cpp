@@ -63,7 +63,7 @@ TEST_P(AdversarialSlow, WorkAtLargeToleranceGrowsNearLinearly) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Inputs, AdversarialSlow,
-                         ::testing::Values("densified_square", "circle", "circle_jittered"));
+                         ::testing::Values("densified_square", "circle", "circle_jittered", "squares_framed"));
 
 // Tolerance ten times the features: every square collapses and the squares merge into clusters.
 // Doubling the squares must not more than about double the snapper's searches (measured 2.2-2.4x).

@@ -56,6 +56,19 @@ void add_clc(std::vector<AdversarialCase>& out, std::vector<std::string>& absent
     out.push_back({"clc_polygon", read_ogr_layer(path.string(), "clc2006_2018418").features, 1e-5, 0.5});
 }
 
+/// Planetiler's NJ shore (one polygon of 254,531 vertices, 2.5 x 2.2 degrees, a few straight
+/// edges along the sea) at 1e-5 and at 0.1 degrees: with one long edge anywhere every vertex's
+/// walk covered its whole disk of the edge radius until the long edges got their grid
+/// (core/long_edges.hpp): 443 s at 0.1 degrees, then 10 s.
+void add_njshore(std::vector<AdversarialCase>& out, std::vector<std::string>& absent) {
+    const std::filesystem::path path = data_root() / "osm_hard_polygons_planetiler" / "planetiler_hard_polygons.gpkg";
+    if (!std::filesystem::exists(path)) {
+        absent.push_back(path.string());
+        return;
+    }
+    out.push_back({"njshore", read_ogr_layer(path.string(), "njshore").features, 1e-5, 0.1});
+}
+
 /// JTS's ReducePrecisionFailure case 4 (39,473 vertices) at t = 10 and at its grid size, 1223.
 void add_jts(std::vector<AdversarialCase>& out, std::vector<std::string>& absent) {
     const std::filesystem::path path =
@@ -89,6 +102,7 @@ const Cases& cases() {
         }
         add_andorra(out.all, out.absent);
         add_clc(out.all, out.absent);
+        add_njshore(out.all, out.absent);
         add_jts(out.all, out.absent);
         return out;
     }();

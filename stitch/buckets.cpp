@@ -472,7 +472,9 @@ void BucketMaker::split_oversize()
 TileLayout BucketMaker::run(tiling::PlanInput sample)
 {
     tiling::PlanOptions plan = m_tiling.plan;
-    plan.halo = m_options.halo; // no cut that only copies a band of halo into both halves
+    // No cut that only copies a band of halo into both halves, unless a memory limit needs the
+    // tiles within their vertex budget (split_oversize() then splits what still does not fit).
+    plan.halo = m_options.max_tile_vertices == 0 ? m_options.halo : 0.0;
     m_layout.plan = tiling::make_plan(std::move(sample), plan);
     m_layout.halo = m_options.halo;
     m_layout.seam_band = m_options.seam_band;

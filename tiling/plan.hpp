@@ -71,7 +71,8 @@ struct PlanOptions {
     /// made when a half would hold more than 3/4 of the tile's vertices with the other half's
     /// vertices within `halo` of the cut (its halo): at a tolerance near the features' size that
     /// band is most of the tile, and cutting only copies it (NJ shore at 0.003 degrees: 8 tiles
-    /// held 3.7 times the layer and the run took 3.4 times the untiled one). 0: cut by count only.
+    /// held 3.7 times the layer and the run took 3.4 times the untiled one). 0: cut by count only
+    /// (make_buckets() plans so under a memory limit, whose tiles must fit their budget).
     double halo = 0.0;
 };
 

@@ -34,39 +34,31 @@ bool large_sizes() {
     return large != nullptr && std::string(large) == "1";
 }
 
-/// Andorra (5,757 buildings) at 1e-6 degrees (about 10 cm) and at 0.001 degrees (about 90 m).
-void add_andorra(std::vector<AdversarialCase>& out, std::vector<std::string>& absent) {
-    const std::filesystem::path path = data_root() / "snapoly_andorra" / "andorra.gpkg";
+/// A layer of a GeoPackage under ../shared/data as one case at two tolerances (its path listed
+/// as absent when the data set is not there).
+void add_gpkg_layer(std::vector<AdversarialCase>& out, std::vector<std::string>& absent, const char* name,
+                    const std::filesystem::path& relative, const char* layer, double small_t, double large_t) {
+    const std::filesystem::path path = data_root() / relative;
     if (!std::filesystem::exists(path)) {
         absent.push_back(path.string());
         return;
     }
-    out.push_back({"andorra", read_ogr_layer(path.string(), "andorra").features, 1e-6, 1e-3});
+    out.push_back({name, read_ogr_layer(path.string(), layer).features, small_t, large_t});
 }
 
-/// CLC 2006's one polygon (43,925 vertices, 0.67 x 0.42 degrees) at 1e-5 and at 0.5 degrees:
-/// a tolerance near the layer's own size, where every vertex lies within t of most others and
-/// constraints block many merges (300 s before the searches passed over parked pairs).
-void add_clc(std::vector<AdversarialCase>& out, std::vector<std::string>& absent) {
-    const std::filesystem::path path = data_root() / "clc2006_prepair" / "CLC2006_2018418.gpkg";
-    if (!std::filesystem::exists(path)) {
-        absent.push_back(path.string());
-        return;
-    }
-    out.push_back({"clc_polygon", read_ogr_layer(path.string(), "clc2006_2018418").features, 1e-5, 0.5});
-}
-
-/// Planetiler's NJ shore (one polygon of 254,531 vertices, 2.5 x 2.2 degrees, a few straight
-/// edges along the sea) at 1e-5 and at 0.1 degrees: with one long edge anywhere every vertex's
-/// walk covered its whole disk of the edge radius until the long edges got their grid
+/// The real layers: Andorra (5,757 buildings) at 1e-6 degrees (about 10 cm) and at 0.001 degrees
+/// (about 90 m); CLC 2006's one polygon (43,925 vertices, 0.67 x 0.42 degrees) at 1e-5 and at 0.5
+/// degrees, a tolerance near the layer's own size, where every vertex lies within t of most
+/// others and constraints block many merges (300 s before the searches passed over parked
+/// pairs); planetiler's NJ shore (one polygon of 254,531 vertices, 2.5 x 2.2 degrees, a few
+/// straight edges along the sea) at 1e-5 and at 0.1 degrees: with one long edge anywhere every
+/// vertex's walk covered its whole disk of the edge radius until the long edges got their grid
 /// (core/long_edges.hpp): 443 s at 0.1 degrees, then 10 s.
-void add_njshore(std::vector<AdversarialCase>& out, std::vector<std::string>& absent) {
-    const std::filesystem::path path = data_root() / "osm_hard_polygons_planetiler" / "planetiler_hard_polygons.gpkg";
-    if (!std::filesystem::exists(path)) {
-        absent.push_back(path.string());
-        return;
-    }
-    out.push_back({"njshore", read_ogr_layer(path.string(), "njshore").features, 1e-5, 0.1});
+void add_real_layers(std::vector<AdversarialCase>& out, std::vector<std::string>& absent) {
+    add_gpkg_layer(out, absent, "andorra", "snapoly_andorra/andorra.gpkg", "andorra", 1e-6, 1e-3);
+    add_gpkg_layer(out, absent, "clc_polygon", "clc2006_prepair/CLC2006_2018418.gpkg", "clc2006_2018418", 1e-5, 0.5);
+    add_gpkg_layer(out, absent, "njshore", "osm_hard_polygons_planetiler/planetiler_hard_polygons.gpkg", "njshore",
+                   1e-5, 0.1);
 }
 
 /// JTS's ReducePrecisionFailure case 4 (39,473 vertices) at t = 10 and at its grid size, 1223.
@@ -100,9 +92,7 @@ const Cases& cases() {
         if (large_sizes()) { // the review's 1 M circle (> 300 s before the one-candidate queue)
             out.all.push_back({"circle_1m", {circle(1, 1'000'000, 100.0, 0.0, 1)}, 1e-4, 0.01});
         }
-        add_andorra(out.all, out.absent);
-        add_clc(out.all, out.absent);
-        add_njshore(out.all, out.absent);
+        add_real_layers(out.all, out.absent);
         add_jts(out.all, out.absent);
         return out;
     }();

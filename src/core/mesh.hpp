@@ -216,7 +216,7 @@ public:
     {
         std::vector<std::uint32_t>().swap(m_vertex_stamp);
         std::vector<double>().swap(m_vertex_d2);
-        drop_long_index(false);
+        drop_long_index();
     }
     /// Whether the long edges are in a grid (core/long_edges.hpp; for the tests).
     bool long_edges_indexed() const { return m_long_indexed; }
@@ -287,11 +287,15 @@ private:
             count_edge(a, b, -1);
         }
     }
-    void count_edge(std::uint32_t a, std::uint32_t b, int delta)
+    bool is_long(std::uint32_t a, std::uint32_t b) const
     {
         const double dx = m_vertices[a].x - m_vertices[b].x;
         const double dy = m_vertices[a].y - m_vertices[b].y;
-        if (dx * dx + dy * dy >= m_long2) {
+        return dx * dx + dy * dy >= m_long2;
+    }
+    void count_edge(std::uint32_t a, std::uint32_t b, int delta)
+    {
+        if (is_long(a, b)) {
             m_long_edges += static_cast<std::size_t>(delta);
             if (m_long_indexed) {
                 index_long_edge(a, b, delta);
@@ -304,7 +308,7 @@ private:
     void note_floored_walk(std::size_t faces, double r2_edge);
     void build_long_index(double r2_edge);
     void index_long_edge(std::uint32_t a, std::uint32_t b, int delta);
-    void drop_long_index(bool for_good);
+    void drop_long_index();
     std::uint32_t next_stamp();
     void ensure_search_scratch();
 

@@ -94,7 +94,7 @@ double squared_distance_point_segment(double px, double py, double ax, double ay
 
 void Mesh::set_long_edge_length2(double len2)
 {
-    drop_long_index(false);
+    drop_long_index();
     m_long_index_tried = false;
     m_floored_walks = 0;
     m_floored_faces = 0;
@@ -136,9 +136,7 @@ void Mesh::add_long_edges_near(std::uint32_t v, double r2_edge, std::vector<Edge
     };
     if (!m_long_index.each(rv.x, rv.y, consider)) {
         m_edge_owners.for_each_edge([&](std::uint32_t a, std::uint32_t b) {
-            const double dx = m_vertices[a].x - m_vertices[b].x;
-            const double dy = m_vertices[a].y - m_vertices[b].y;
-            if (dx * dx + dy * dy >= m_long2) {
+            if (is_long(a, b)) {
                 consider(edge_key(a, b));
             }
         });
@@ -166,9 +164,7 @@ void Mesh::build_long_index(double r2_edge)
     m_long_apart.clear();
     m_long_indexed = true;
     m_edge_owners.for_each_edge([&](std::uint32_t a, std::uint32_t b) {
-        const double dx = m_vertices[a].x - m_vertices[b].x;
-        const double dy = m_vertices[a].y - m_vertices[b].y;
-        if (m_long_indexed && dx * dx + dy * dy >= m_long2) {
+        if (m_long_indexed && is_long(a, b)) { // (a drop stops the indexing)
             index_long_edge(a, b, 1);
         }
     });
@@ -193,15 +189,15 @@ void Mesh::index_long_edge(std::uint32_t a, std::uint32_t b, int delta)
         }
     }
     // Bounded memory: at most 8 cell entries per vertex slot (a few per long edge is usual).
+    // Dropped for good: m_long_index_tried stays set, so the walks hold the edge radius again.
     if (m_long_apart.size() > k_max_long_apart || m_long_index.entries() > 8 * m_vertices.size() + 4096) {
-        drop_long_index(true);
+        drop_long_index();
     }
 }
 
-void Mesh::drop_long_index(bool for_good)
+void Mesh::drop_long_index()
 {
     m_long_indexed = false;
-    m_long_index_tried = m_long_index_tried || for_good;
     m_long_index = LongEdgeIndex{};
     std::vector<std::uint64_t>().swap(m_long_apart);
 }

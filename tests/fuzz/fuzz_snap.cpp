@@ -109,18 +109,23 @@ ContractReport check_scaled(const fuzz::SnapProblem& problem, const SnapResult& 
                           engine_rules(options, problem.features.size()));
 }
 
+/// `id;WKT` lines, as fuzz::describe() writes the input.
+template <class F>
+std::string wkt_lines(const std::vector<F>& features)
+{
+    std::string out;
+    for (const F& f : features) {
+        out += std::to_string(f.id) + ";" + to_wkt(f.geometry) + "\n";
+    }
+    return out;
+}
+
 [[noreturn]] void report_breach(const fuzz::SnapProblem& problem, const SnapResult& result,
                                 const ContractReport& report)
 {
     const int k = checker_exponent(problem.options.tolerance);
-    std::string scaled_input;
-    for (const Feature& f : scaled(problem.features, k)) {
-        scaled_input += std::to_string(f.id) + ";" + to_wkt(f.geometry) + "\n";
-    }
-    std::string scaled_output;
-    for (const FeatureOutput& f : scaled(result, k).features) {
-        scaled_output += std::to_string(f.id) + ";" + to_wkt(f.geometry) + "\n";
-    }
+    const std::string scaled_input = wkt_lines(scaled(problem.features, k));
+    const std::string scaled_output = wkt_lines(scaled(result, k).features);
     std::fprintf(stderr, "fuzz_snap: contract breached (checked with coordinates and t scaled by 2^%d)\n%s\nproblems:\n%s\ninput:\n%s"
                  "input scaled by 2^%d:\n%soutput scaled by 2^%d:\n%s",
                  k, report.summary().c_str(), problem_lines(result.problems).c_str(), fuzz::describe(problem).c_str(), k,

@@ -118,6 +118,43 @@ TEST(Adversarial, QueueStaysLinearInTheVerticesWhenEverythingIsWithinT) {
     EXPECT_LE(out.peak_queue, 16 * vertices);
 }
 
+// The long edges' grid (core/long_edges.hpp) is built where walks held at the edge radius grow
+// costly and nowhere else: squares packed inside a frame of long edges at t = 10 build it (and
+// the fix-point check, a full scan whose walks take no help from the grid, finds no event
+// left), the same squares without the frame, or at t = 0.01, never build it. What this does not
+// show: that the grid's edges are needed here. With them dropped from the walks the check still
+// found nothing (the frame is far from the squares, and a frame 2 from them, or slivers off,
+// changed nothing): the grid's answers are checked by LongEdgeIndex's brute-force test.
+TEST(Adversarial, LongEdgesGridIsBuiltOnlyWhereItPays) {
+    const std::vector<AdversarialCase> cases = adversarial_cases(1.0);
+    const std::vector<Feature>& framed = find_case(cases, "squares_framed").features;
+    const std::vector<Feature> unframed(framed.begin(), framed.end() - 1);
+    const auto run = [](const std::vector<Feature>& in, double t, bool& indexed) {
+        std::vector<Problem> problems;
+        const std::vector<detail::CleanFeature> clean = detail::clean_input(in, t, problems);
+        detail::Mesh mesh(clean, t);
+        detail::SnapperParams params;
+        params.vertex_threshold = t;
+        params.edge_threshold = t / 2;
+        params.sliver_threshold = t / 2;
+        params.max_operations = 100 * mesh.vertex_slots();
+        params.verify = true;
+        const detail::SnapperOutcome out = detail::run_snapper(mesh, params);
+        indexed = mesh.long_edges_indexed();
+        return out;
+    };
+    bool indexed = false;
+    const detail::SnapperOutcome out = run(framed, 10.0, indexed);
+    EXPECT_TRUE(indexed) << "the frame's edges must make the walks costly enough";
+    EXPECT_TRUE(out.converged);
+    EXPECT_GT(out.merges, vertex_count(framed) / 2);
+    EXPECT_EQ(out.fixpoint_misses, 0u);
+    run(unframed, 10.0, indexed);
+    EXPECT_FALSE(indexed) << "no long edge: no grid";
+    run(framed, 0.01, indexed);
+    EXPECT_FALSE(indexed) << "walks of a few faces: no grid";
+}
+
 // An exact circle with 16 vertices per t. A merged vertex sits inside the circle by the sagitta,
 // and in a Delaunay triangulation of nearly co-circular points such a vertex neighbours nearly
 // the whole circle (degree 19,996 of 20,000 measured). CGAL refills the hole of a removed vertex

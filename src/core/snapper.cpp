@@ -71,7 +71,7 @@ bool Snapper::retry_parked()
         }
     }
     if (!any) { // nothing can go through: keep them parked, drop the re-queued copies
-        m_queue = {};
+        m_queue.clear();
         for (const Event& e : parked) {
             if (alive(e.a) && alive(e.b)) {
                 m_parked.push_back(e);

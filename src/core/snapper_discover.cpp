@@ -182,7 +182,11 @@ void Snapper::check_face(cdt::Face_handle f)
             const VertexRecord& rb = m_mesh.vertex(b);
             const VertexRecord& rc = m_mesh.vertex(c);
             const double d2 = squared_distance_point_segment(rv.x, rv.y, rb.x, rb.y, rc.x, rc.y);
-            if (d2 <= m_st2) {
+            // Within t of an end of the edge the sliver is never applicable (applicable()
+            // refuses it, and no vertex moves: an edit makes new ones), so it is not queued:
+            // at a tolerance near the layer's size nearly every sliver found is such a one
+            // (NJ shore at 0.1 degrees: 1.9 M queued for 4 applied).
+            if (d2 <= m_st2 && dist2(ids[i], b) > m_vt2 && dist2(ids[i], c) > m_vt2) {
                 push(d2, Kind::sliver, ids[i], std::min(b, c), std::max(b, c));
             }
         }

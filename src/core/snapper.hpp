@@ -53,6 +53,7 @@ struct SnapperOutcome {
     std::size_t faces_visited = 0; ///< faces the searches walked and changed faces examined
     std::size_t fixpoint_misses = 0; ///< with verify: applicable events left at the end
     std::size_t peak_queue = 0;  ///< most events the queue held at once (O(vertices), not O(pairs))
+    std::size_t face_events = 0; ///< face collapse events queued (candidates, not every trivial face)
     bool converged = true;      ///< false when the operation cap stopped the run
     /// Vertices still closer than the thresholds after the run (cap reached or guard refused).
     std::vector<std::uint32_t> unresolved;

@@ -75,6 +75,7 @@ bool Snapper::applicable(const Event& e, bool count_guard)
 bool Snapper::apply_face(const Event& e)
 {
     if (!applicable(e, true)) {
+        face_event_gone(e);
         return false;
     }
     const VertexRecord& ra = m_mesh.vertex(e.a);

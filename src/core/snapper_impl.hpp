@@ -4,7 +4,10 @@
 #include "core/snapper.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <tuple>
 #include <unordered_set>
 #include <vector>
@@ -26,6 +29,19 @@ struct Event {
         return std::tie(kind, a, b, c) < std::tie(o.kind, o.a, o.b, o.c);
     }
 };
+
+/// A vertex without a face candidate (Snapper::m_face_key).
+inline constexpr float k_no_face = std::numeric_limits<float>::infinity();
+
+/// The smallest float >= d2 (d2 >= 0): the face candidates' keys in 4 bytes a vertex.
+inline float rounded_up(double d2)
+{
+    if (!(d2 <= double{std::numeric_limits<float>::max()})) {
+        return k_no_face;
+    }
+    const auto f = static_cast<float>(d2);
+    return double{f} < d2 ? std::nextafter(f, k_no_face) : f;
+}
 
 /// The events in order, smallest first: a min-heap with four children a node.
 ///
@@ -118,6 +134,9 @@ private:
     void merge_event_gone(const Event& e);
     void discover_segment(std::uint32_t b, std::uint32_t c);
     void check_face(cdt::Face_handle f);
+    bool collapse_event(std::array<std::uint32_t, 3> ids, Event& out) const;
+    void face_event_gone(const Event& e);
+    void find_face_candidate(std::uint32_t v);
     void check_changed_faces();
     void after_edit(std::uint32_t w);
     // snapper_apply.cpp
@@ -137,6 +156,7 @@ private:
     void push(double d2, Kind k, std::uint32_t a, std::uint32_t b, std::uint32_t c)
     {
         m_queue.push(Event{d2, k, a, b, c});
+        m_out.face_events += k == Kind::face ? 1 : 0;
         m_out.peak_queue = std::max(m_out.peak_queue, m_queue.size());
     }
     bool alive(std::uint32_t v) const { return m_mesh.vertex(v).alive; }
@@ -160,6 +180,10 @@ private:
     std::vector<Event> m_parked;       ///< merges refused because a constraint lay between
     std::unordered_set<std::uint64_t> m_parked_pairs; ///< their pairs (edge_key), this round
     std::vector<MergeCandidate> m_candidate; ///< per vertex id (see discover_point)
+    /// Per vertex id: the squared distance of its face candidate rounded up to a float, +inf for
+    /// none (see check_face).
+    std::vector<float> m_face_key;
+    bool m_face_candidates = true; ///< false: every trivial face queued (the verifying scan)
     std::vector<void*> m_changed;      ///< faces CGAL created or changed since the last look
     std::vector<std::pair<double, std::uint32_t>> m_near;
     std::vector<EdgeHit> m_edges;

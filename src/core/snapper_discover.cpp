@@ -180,12 +180,13 @@ void Snapper::discover_segment(std::uint32_t b, std::uint32_t c)
 // becomes its candidate. Why the same collapses happen in the same order: let f be the smallest
 // event that applies. If f is not queued, it is covered by a vertex u whose candidate c is
 // queued with c < f (a candidate changes only to a smaller one, or after a search to the
-// smallest at u, which is f or smaller while f exists); c is popped first, does not apply (f is the smallest that does), and u's
-// search then queues u's smallest trivial face, which is f (a smaller trivial face at u would
-// apply, being one), before anything larger is popped. A candidate that applies kills all its
-// vertices, and with them every face it covered. A queue that drains leaves no candidate
-// behind (each was popped and either applied or was replaced by its vertex's next search), so
-// parked merges' rounds start clean. The verifying scan queues every face (m_face_candidates).
+// smallest at u, which is f or smaller while f exists); c is popped first, does not apply (f is
+// the smallest that does), and u's search then queues u's smallest trivial face, which is f (a
+// smaller trivial face at u would apply, being one), before anything larger is popped. A
+// candidate that applies kills all its vertices, and with them every face it covered. A queue
+// that drains leaves no candidate behind (each was popped and either applied or was replaced by
+// its vertex's next search), so parked merges' rounds start clean. The verifying scan queues
+// every face (m_face_candidates).
 void Snapper::check_face(cdt::Face_handle f)
 {
     f->info().checked = true;

@@ -45,7 +45,9 @@ TEST(EventQueue, EveryPopIsTheSmallestQueued) {
         };
         for (int round = 0; round < 4000; ++round) {
             for (int k = small(rng) % burst; k >= 0; --k) {
-                const Event e = small(rng) == 0 ? last : Event{0.125 * small(rng), kinds[small(rng) % 4], id(rng), id(rng), id(rng)};
+                const Event e = small(rng) == 0
+                                    ? last
+                                    : Event{0.125 * small(rng), kinds[small(rng) % 4], id(rng), id(rng), id(rng)};
                 queue.push(e);
                 mirror.insert(e);
                 last = e;

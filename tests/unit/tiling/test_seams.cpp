@@ -151,6 +151,41 @@ TEST(Property, RandomTileSizesAndThreadsKeepTheContract)
     EXPECT_LE(static_cast<double>(differ), 1e-4 * static_cast<double>(features)) << differ << " of " << features;
 }
 
+// A shore with one straight edge along its sea side: 4,000 vertices zigzag along y = 0 from
+// x = 0 to 1000, and one edge closes the polygon from (1000, 10) back to (0, 10). Every tile of
+// a plan cut across x meets that edge, and a tile's box grows to hold both ends of every edge
+// meeting it, so each would hold the whole layer: the balanced plan is one tile then
+// (BucketMaker::run). With the sea side in 1-long edges there is nothing to grow for and the
+// plan stays cut; a --tile-size grid is the user's choice and stays cut too. Every run holds
+// the contract and equals the untiled one.
+TEST(TiledPlan, OneTileWhenATileWouldHoldMostOfTheLayer)
+{
+    const auto shore = [](bool dense_sea_side) {
+        Path ring;
+        for (int i = 0; i <= 4000; ++i) ring.push_back({0.25 * i, (i % 2) * 0.5});
+        ring.push_back({1000, 10});
+        if (dense_sea_side) {
+            for (int x = 999; x > 0; --x) ring.push_back({static_cast<double>(x), 10});
+        }
+        ring.push_back({0, 10});
+        ring.push_back(ring.front());
+        return std::vector<Feature>{polygon(1, {ring})};
+    };
+    const auto leaves = [&](const std::vector<Feature>& in, stitch::TilingOptions tiling) {
+        const SnapOptions o = options_at(t);
+        const SnapResult untiled = snap(in, o);
+        const TiledRun run = tiled_and_check(in, o, tiling, 0);
+        EXPECT_TRUE(contract_holds(run.report, t)) << run.report.summary();
+        EXPECT_TRUE(differing(untiled, run.tiled.result).empty());
+        return run.tiled.stitch.leaves;
+    };
+    stitch::TilingOptions balanced;
+    balanced.plan.vertex_budget = 500;
+    EXPECT_EQ(leaves(shore(false), balanced), 1u);
+    EXPECT_GT(leaves(shore(true), balanced), 4u);
+    EXPECT_GT(leaves(shore(false), tiles_of(100)), 4u);
+}
+
 TEST(TiledOptions, BadOptionsAreRejected)
 {
     const std::vector<Feature> in{polygon(1, {rect(0, 0, 1, 1)})};

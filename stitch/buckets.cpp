@@ -488,7 +488,7 @@ TileLayout BucketMaker::run(tiling::PlanInput sample)
     // A tile's box grows to hold both ends of every edge meeting it. When that makes one tile
     // hold more than 3/4 of the layer anyway, the other tiles only snap copies again: NJ shore
     // (one polygon, a few straight edges along the sea) put 211 k of its 254 k vertices in one
-    // of 8 tiles holding 553-674 k, and ran 1.8-3.2x the untiled CPU at 1e-5 to 3e-3 degrees,
+    // of 5-8 tiles holding 553-846 k, and ran 1.8-3.2x the untiled CPU at 1e-5 to 3e-3 degrees,
     // slower in wall time than one untiled thread even on two. The balanced plan, without a
     // memory limit, is then one tile (a limit needs tiles within their budget; a --tile-size
     // grid is the user's choice).

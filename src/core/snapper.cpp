@@ -86,7 +86,6 @@ bool Snapper::retry_parked()
 // still carry out. 0 when the local re-discovery missed nothing.
 std::size_t Snapper::count_misses()
 {
-    m_face_candidates = false;
     initial_scan(true);
     std::size_t misses = 0;
     while (!m_queue.empty()) {

@@ -28,7 +28,7 @@ void Snapper::initial_scan(bool every_pair)
     const double reach = std::sqrt(std::max(m_vt2, m_et2)) + m_mesh.ulp_margin();
     const double reach2 = reach * reach;
     for (const cdt::Face_handle f : m_mesh.tri().finite_face_handles()) {
-        check_face(f);
+        check_face(f, every_pair);
         if (every_pair) {
             continue;
         }
@@ -186,8 +186,8 @@ void Snapper::discover_segment(std::uint32_t b, std::uint32_t c)
 // candidate that applies kills all its vertices, and with them every face it covered. A queue
 // that drains leaves no candidate behind (each was popped and either applied or was replaced by
 // its vertex's next search), so parked merges' rounds start clean. The verifying scan queues
-// every face (m_face_candidates).
-void Snapper::check_face(cdt::Face_handle f)
+// every face (`every_face`).
+void Snapper::check_face(cdt::Face_handle f, bool every_face)
 {
     f->info().checked = true;
     std::array<std::uint32_t, 3> ids{f->vertex(0)->info().id, f->vertex(1)->info().id, f->vertex(2)->info().id};
@@ -215,7 +215,7 @@ void Snapper::check_face(cdt::Face_handle f)
     if (!collapse_event(ids, e)) {
         return;
     }
-    if (m_face_candidates) {
+    if (!every_face) {
         if (m_face_key.size() <= e.c) {
             m_face_key.resize(m_mesh.vertex_slots(), k_no_face);
         }
@@ -291,7 +291,7 @@ void Snapper::check_changed_faces()
         if (!faces.is_used(f) || f->info().checked || m_mesh.tri().is_infinite(f)) {
             continue;
         }
-        check_face(f);
+        check_face(f, false);
         ++m_out.faces_visited;
     }
     m_changed.clear();

@@ -134,7 +134,7 @@ private:
     void find_candidate(std::uint32_t v);
     void merge_event_gone(const Event& e);
     void discover_segment(std::uint32_t b, std::uint32_t c);
-    void check_face(cdt::Face_handle f);
+    void check_face(cdt::Face_handle f, bool every_face);
     bool collapse_event(std::array<std::uint32_t, 3> ids, Event& out) const;
     void face_event_gone(const Event& e);
     void find_face_candidate(std::uint32_t v);
@@ -184,7 +184,6 @@ private:
     /// Per vertex id: the squared distance of its face candidate rounded up to a float, +inf for
     /// none (see check_face).
     std::vector<float> m_face_key;
-    bool m_face_candidates = true; ///< false: every trivial face queued (the verifying scan)
     std::vector<void*> m_changed;      ///< faces CGAL created or changed since the last look
     std::vector<std::pair<double, std::uint32_t>> m_near;
     std::vector<EdgeHit> m_edges;

@@ -16,7 +16,7 @@ public:
     {
         auto& tri = m_mesh.tri();
         for (auto f : tri.all_face_handles()) f->info().mark = cdt::k_no_label;
-        m_steps.reserve(2 * feature_count + 16); // a feature's boundary is entered and left
+        m_single.assign(feature_count, cdt::k_no_label);
         const std::uint32_t outside = intern({}); // 0: label_faces relies on it
         // Breadth first, one wave after another: the order a FIFO queue gives, in two vectors
         // that keep their room (a deque allocated a block per 64 faces).
@@ -53,9 +53,13 @@ private:
         }
         if (m_odd.empty()) return label;
         if (m_odd.size() > 1) return toggled(label);
-        // Nearly every crossing toggles one feature, and the same few transitions repeat along a
-        // boundary: remembered by (label, feature), so the interning map (ordered sets of
-        // features) is searched once per transition, not once per crossed edge.
+        // Nearly every crossing toggles one feature, from outside every polygon into it or out
+        // of it again: answered without a lookup. Other transitions repeat along a boundary:
+        // remembered by (label, feature), so the interning map (ordered sets of features) is
+        // searched once per transition, not once per crossed edge.
+        const std::span<const std::uint32_t> cur = m_out.set(label);
+        if (cur.empty()) return single(m_odd[0]);
+        if (cur.size() == 1 && cur[0] == m_odd[0]) return 0;
         const auto [it, added] = m_steps.try_emplace((std::uint64_t{label} << 32) | m_odd[0], 0u);
         if (added) it->second = toggled(label);
         return it->second;
@@ -65,24 +69,45 @@ private:
     std::uint32_t toggled(std::uint32_t label)
     {
         std::vector<std::uint32_t> next;
-        const std::vector<std::uint32_t>& cur = m_out.sets[label];
+        const std::span<const std::uint32_t> cur = m_out.set(label);
         std::set_symmetric_difference(cur.begin(), cur.end(), m_odd.begin(), m_odd.end(), std::back_inserter(next));
+        if (next.size() == 1) return single(next[0]);
         return intern(std::move(next));
     }
 
+    // The label of {feature}: kept per feature, not in the map (nearly every label is one).
+    std::uint32_t single(std::uint32_t feature)
+    {
+        std::uint32_t& l = m_single[feature];
+        if (l == cdt::k_no_label) l = add_label(std::span(&feature, 1));
+        return l;
+    }
+
+    // The label of a set of 0 or >= 2 features (single() has those of one).
     std::uint32_t intern(std::vector<std::uint32_t> set)
     {
-        if (m_out.sets.size() >= cdt::k_no_label && !m_index.count(set)) {
+        const auto it = m_index.find(set);
+        if (it != m_index.end()) return it->second;
+        const std::uint32_t l = add_label(set);
+        m_index.emplace(std::move(set), l);
+        return l;
+    }
+
+    // Labels are numbered in the order their sets are first met.
+    std::uint32_t add_label(std::span<const std::uint32_t> set)
+    {
+        if (m_out.labels() >= cdt::k_no_label) {
             throw std::length_error("more than 2^28 - 1 distinct sets of overlapping features: split the layer in tiles");
         }
-        auto [it, added] = m_index.try_emplace(set, static_cast<std::uint32_t>(m_out.sets.size()));
-        if (added) m_out.sets.push_back(std::move(set));
-        return it->second;
+        m_out.set_features.insert(m_out.set_features.end(), set.begin(), set.end());
+        m_out.set_first.push_back(m_out.set_features.size());
+        return static_cast<std::uint32_t>(m_out.labels() - 1);
     }
 
     Mesh& m_mesh;
     FaceLabels& m_out;
     std::map<std::vector<std::uint32_t>, std::uint32_t> m_index;
+    std::vector<std::uint32_t> m_single; ///< feature -> the label of {feature}, k_no_label: none yet
     std::vector<OwnerRef> m_refs;
     std::vector<FeatureCount> m_counts;
     std::vector<std::uint32_t> m_odd; ///< features an edge's owners toggle (odd count)
@@ -99,7 +124,7 @@ FaceLabels label_faces(Mesh& mesh, std::size_t feature_count)
     std::vector<std::size_t>& first = out.first;
     first.assign(feature_count + 1, 0);
     for (auto f : mesh.tri().finite_face_handles())
-        for (std::uint32_t feature : out.sets[f->info().mark]) ++first[feature + 1];
+        for (std::uint32_t feature : out.set(f->info().mark)) ++first[feature + 1];
     for (std::size_t k = 0; k < feature_count; ++k) first[k + 1] += first[k];
     const std::size_t blocks = (feature_count + FaceLabels::k_block - 1) / FaceLabels::k_block;
     out.blocks.resize(blocks);
@@ -112,7 +137,7 @@ FaceLabels label_faces(Mesh& mesh, std::size_t feature_count)
     // label, which is 0 (interned first; they meet only across unconstrained edges).
     std::vector<std::size_t> next(first.begin(), first.end() - 1); // where feature f's next face goes
     for (auto f : mesh.tri().finite_face_handles()) {
-        for (std::uint32_t feature : out.sets[f->info().mark]) {
+        for (std::uint32_t feature : out.set(f->info().mark)) {
             const std::size_t b = feature / FaceLabels::k_block;
             out.blocks[b][next[feature]++ - first[b * FaceLabels::k_block]] = f;
         }

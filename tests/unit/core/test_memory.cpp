@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 namespace trisnap {
 namespace {
@@ -299,6 +300,19 @@ TEST(EngineMemory, FaceListsInBlocksAreEachFeaturesFaces)
         ASSERT_GE(expected[f].size(), 2u) << "feature " << f << " is a square: two faces at least";
         EXPECT_TRUE(same(f)) << "feature " << f;
     }
+    // Each set of features has one label (singletons are kept apart from the map of the others:
+    // a set met both ways must still get one label), the outside's is 0, each set is sorted.
+    std::set<std::vector<std::uint32_t>> sets;
+    std::size_t overlapping = 0;
+    for (std::uint32_t l = 0; l < labels.labels(); ++l) {
+        const std::span<const std::uint32_t> s = labels.set(l);
+        EXPECT_TRUE(std::is_sorted(s.begin(), s.end()) && std::adjacent_find(s.begin(), s.end()) == s.end()) << "label " << l;
+        sets.emplace(s.begin(), s.end());
+        overlapping += s.size() > 1 ? 1 : 0;
+    }
+    EXPECT_EQ(sets.size(), labels.labels()) << "a set of features with two labels";
+    EXPECT_TRUE(labels.set(0).empty()) << "label 0 is the outside";
+    EXPECT_GT(overlapping, 0u);
     labels.release_block(block + 7); // the middle block
     EXPECT_EQ(labels.blocks[1].capacity(), 0u);
     for (std::size_t f : {std::size_t{0}, block - 1, 2 * block, clean.size() - 1}) {

@@ -45,7 +45,8 @@ public:
         : m_layout(layout), m_groups(groups), m_group(group)
     {
     }
-    void add_feature(std::uint64_t rank, bool intact, const FeatureOutput& fo, const std::vector<std::uint64_t>& ranks);
+    /// Takes `fo`'s geometry when the piece keeps it whole.
+    void add_feature(std::uint64_t rank, bool intact, FeatureOutput& fo, const std::vector<std::uint64_t>& ranks);
     void add_problem(std::size_t position, const Problem& p);
     std::vector<Piece>& pieces() { return m_pieces; }
     std::vector<SeamEdge>& seams() { return m_seams; }
@@ -56,6 +57,7 @@ private:
     bool mine(std::size_t leaf) const { return m_groups.of_leaf[leaf] == m_group; }
     bool owns(const DirectedEdge& e) const;
     bool in_a_core(const Polygon& poly) const;
+    bool deep_in_a_core(const Geometry& g) const;
     void seam_edge(std::uint64_t rank, const DirectedEdge& e, bool owned);
 
     const TileLayout& m_layout;
@@ -118,7 +120,21 @@ bool ResultBuilder::in_a_core(const Polygon& poly) const
     return mine(leaf) && inside_region(m_layout.plan.core(leaf), b);
 }
 
-void ResultBuilder::add_feature(std::uint64_t rank, bool intact, const FeatureOutput& fo,
+// Whether the geometry's box, grown by the seam band, lies inside the core of one of the tile's
+// leaves and inside the layer's extent. Then the tile owns each of its edges (their midpoints
+// are in that core and the extent) and none is near a seam (each edge's grown box is inside
+// the core of the leaf its midpoint is in): what add_feature's edge by edge tests would find.
+bool ResultBuilder::deep_in_a_core(const Geometry& g) const
+{
+    const Box b = tiling::box_of(g);
+    if (b.empty() || !m_layout.plan.extent().contains(b)) {
+        return false;
+    }
+    const std::size_t leaf = m_layout.plan.leaf_of(b.xmin, b.ymin);
+    return mine(leaf) && inside_region(m_layout.plan.core(leaf), b.expanded(m_layout.seam_band));
+}
+
+void ResultBuilder::add_feature(std::uint64_t rank, bool intact, FeatureOutput& fo,
                                 const std::vector<std::uint64_t>& ranks)
 {
     Piece piece;
@@ -130,6 +146,23 @@ void ResultBuilder::add_feature(std::uint64_t rank, bool intact, const FeatureOu
     }
     piece.has_z = fo.geometry.has_z;
     piece.geometry.has_z = fo.geometry.has_z;
+    // Most features of a tile lie deep inside one of its leaves: whole, without their edges
+    // listed and tested one by one (Andorra x43 untiled: the edge by edge tests and the copy of
+    // the geometry were 5 % of the run).
+    if (intact && deep_in_a_core(fo.geometry)) {
+        std::size_t edges = 0;
+        for (const Polygon& poly : fo.geometry.polygons) {
+            for (const Path& r : poly.rings) edges += r.empty() ? 0 : r.size() - 1;
+        }
+        for (const Path& l : fo.geometry.lines) edges += l.empty() ? 0 : l.size() - 1;
+        if (edges > 0) {
+            m_owned += edges;
+            piece.whole = true;
+            piece.geometry = std::move(fo.geometry);
+            m_pieces.push_back(std::move(piece));
+            return;
+        }
+    }
     std::size_t total = 0;
     std::size_t owned = 0;
     auto add_edges = [&](bool may_finish) {
@@ -168,7 +201,7 @@ void ResultBuilder::add_feature(std::uint64_t rank, bool intact, const FeatureOu
     if (intact && total > 0 && owned == total) {
         piece.whole = true;
         piece.edges.clear();
-        piece.geometry = fo.geometry;
+        piece.geometry = std::move(fo.geometry);
     } else if (!piece.geometry.polygons.empty()) {
         piece.geometry.type = piece.geometry.polygons.size() == 1 ? Geometry::Type::Polygon : Geometry::Type::MultiPolygon;
     }
@@ -284,7 +317,7 @@ tiling::TileJobInput TileRunner::gather_wide(std::size_t group, double halo, Til
     return in;
 }
 
-void TileRunner::commit(std::size_t group, const tiling::TileOutcome& oc, TileReport& report) const
+void TileRunner::commit(std::size_t group, tiling::TileOutcome& oc, TileReport& report) const
 {
     ResultBuilder builder(m_layout, m_groups, group);
     std::unordered_map<std::int64_t, std::size_t> position;
@@ -397,7 +430,7 @@ TileReport TileRunner::run(std::size_t group, const SnapProgress& progress, Tile
     if (const tiling::Box& x = m_layout.plan.extent(); !x.empty()) {
         options.data_extent = Region{x.xmin, x.ymin, x.xmax, x.ymax}; // closed for this use
     }
-    const tiling::TileOutcome oc = tiling::run_tile(job, options, gather_input);
+    tiling::TileOutcome oc = tiling::run_tile(job, options, gather_input);
     TileReport report;
     report.id = m_groups.leaves[group].front();
     report.leaves = m_groups.leaves[group].size();

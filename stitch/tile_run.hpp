@@ -45,7 +45,8 @@ private:
     std::string describe(const std::vector<tiling::TileFeature>& features) const;
     /// "N features: FIDs a, b, ... and M more", the FIDs ascending.
     static std::string describe_fids(std::vector<std::int64_t> fids);
-    void commit(std::size_t group, const tiling::TileOutcome& oc, TileReport& report) const;
+    /// Takes the outcome's geometries.
+    void commit(std::size_t group, tiling::TileOutcome& oc, TileReport& report) const;
     void write_files(std::size_t group, const TileReport& report, const std::vector<Piece>& pieces,
                      const std::vector<SeamEdge>& seams) const;
 

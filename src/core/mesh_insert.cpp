@@ -106,7 +106,17 @@ void Mesh::run_jobs()
 
 void Mesh::constrain(const Job& job)
 {
-    m_tri.insert_constraint(job.a, job.b);
+    // An edge of the triangulation already (most input edges, found so by first_obstacle) is
+    // flagged on its two faces, as CGAL's insert_constraint would after walking a's neighbours
+    // again to find it (includes_edge: ~3 % of a run on Natural Earth's countries).
+    cdt::Face_handle f;
+    int i = 0;
+    if (m_tri.tds().is_edge(job.a, job.b, f, i)) {
+        f->set_constraint(i, true);
+        f->neighbor(i)->set_constraint(m_tri.mirror_index(f, i), true);
+    } else {
+        m_tri.insert_constraint(job.a, job.b);
+    }
     if (m_list_new_edges) m_new_edges.emplace_back(id(job.a), id(job.b));
     for (std::uint32_t k = job.first; k < job.first + job.count; ++k) {
         add_owner(id(job.a), id(job.b), m_arena[k]);

@@ -188,10 +188,22 @@ std::vector<std::uint32_t> Mesh::insert_points(const std::vector<CleanFeature>& 
     std::vector<SortPoint> order(total);
     for (std::uint32_t v = 0; v < total; ++v) order[v] = SortPoint{m_vertices[v].x, m_vertices[v].y, v};
     CGAL::spatial_sort(order.begin(), order.end(), CGAL::Spatial_sort_traits_adapter_2<cdt::Kernel, SortPointMap>());
+    // No constraint exists yet: each point goes in as CGAL's constrained insert would put it
+    // (locate, the plain triangulation's insertion, then the Delaunay flips around it) without
+    // the constrained insert's bookkeeping of constraint flags around the new vertex, which
+    // can only copy "not constrained" here (a sixth of the insertion's instructions). The same
+    // operations on the same faces: the same triangulation, face for face.
     cdt::Face_handle hint;
     std::size_t inserted = 0;
     for (const SortPoint& p : order) {
-        const cdt::Vertex_handle h = m_tri.insert(cdt::Point(p.x, p.y), hint);
+        const cdt::Point pt(p.x, p.y);
+        cdt::Triangulation::Locate_type lt{};
+        int li = 0;
+        const cdt::Face_handle loc = m_tri.locate(pt, lt, li, hint);
+        const cdt::Vertex_handle h = static_cast<cdt::CtBase::Triangulation&>(m_tri).insert(pt, lt, loc, li);
+        if constexpr (cdt::k_delaunay) {
+            m_tri.flip_around(h);
+        }
         m_vertices[p.id].handle = h;
         h->info().id = p.id;
         hint = h->face();
@@ -372,6 +384,25 @@ std::uint32_t Mesh::current(std::uint32_t id)
 void Mesh::polygon_ownership(std::span<const OwnerRef> refs, std::vector<FeatureCount>& out) const
 {
     out.clear();
+    // One or two owners (nearly every edge: a boundary, or two neighbours' shared one): the
+    // same sorted counts without the sort's call.
+    if (refs.size() <= 2) {
+        for (const OwnerRef& r : refs) {
+            const Owner& o = m_owners[r.owner];
+            if (o.line) {
+                continue;
+            }
+            if (!out.empty() && out[0].feature == o.feature) {
+                ++out[0].times;
+            } else {
+                out.push_back(FeatureCount{o.feature, 1});
+            }
+        }
+        if (out.size() == 2 && out[1].feature < out[0].feature) {
+            std::swap(out[0], out[1]);
+        }
+        return;
+    }
     for (const OwnerRef& r : refs) {
         const Owner& o = m_owners[r.owner];
         if (!o.line) {

@@ -141,6 +141,70 @@ struct SortPointMap {
     friend cdt::Point get(const SortPointMap&, const SortPoint& p) { return {p.x, p.y}; }
 };
 
+// CGAL's Constrained_Delaunay_triangulation_2::flip_around(va) while no edge is constrained:
+// the same flips in the same order (its propagating_flip, recursive to a depth of 100 and then
+// its non-recursive version, with its is_flipable test), each done by the data structure's
+// flip alone. CGAL's constrained flip saves the four wing edges' flags around it and copies
+// them back: with no constraint anywhere they are all "not constrained" before and after.
+class BuildFlips {
+public:
+    explicit BuildFlips(cdt::Triangulation& tri) : m_tri(tri) {}
+
+    void around(cdt::Vertex_handle va)
+    {
+        if (m_tri.dimension() <= 1) return;
+        cdt::Face_handle f = va->face();
+        const cdt::Face_handle start = f;
+        cdt::Face_handle next;
+        do {
+            const int i = f->index(va);
+            next = f->neighbor(cdt::Triangulation::ccw(i));
+            propagate(f, i, 0);
+            f = next;
+        } while (next != start);
+    }
+
+private:
+    bool flipable(cdt::Face_handle f, int i) const
+    {
+        const cdt::Face_handle ni = f->neighbor(i);
+        if (m_tri.is_infinite(f) || m_tri.is_infinite(ni)) return false;
+        return m_tri.side_of_oriented_circle(ni, f->vertex(i)->point(), true) == CGAL::ON_POSITIVE_SIDE;
+    }
+
+    void propagate(cdt::Face_handle f, int i, int depth)
+    {
+        if (!flipable(f, i)) return;
+        if (depth == 100) {
+            propagate_without_recursion(f, i);
+            return;
+        }
+        const cdt::Face_handle ni = f->neighbor(i);
+        m_tri.tds().flip(f, i);
+        propagate(f, i, depth + 1);
+        i = ni->index(f->vertex(i));
+        propagate(ni, i, depth + 1);
+    }
+
+    void propagate_without_recursion(cdt::Face_handle f, int i)
+    {
+        std::vector<cdt::Triangulation::Edge> edges;
+        const cdt::Vertex_handle vp = f->vertex(i);
+        edges.emplace_back(f, i);
+        while (!edges.empty()) {
+            f = edges.back().first;
+            i = edges.back().second;
+            const cdt::Face_handle ni = f->neighbor(i);
+            m_tri.tds().flip(f, i);
+            if (!flipable(f, i)) edges.pop_back();
+            i = ni->index(vp);
+            if (flipable(ni, i)) edges.emplace_back(ni, i);
+        }
+    }
+
+    cdt::Triangulation& m_tri;
+};
+
 std::vector<std::uint32_t> Mesh::insert_points(const std::vector<CleanFeature>& features, double reach,
                                                WorkMeter* meter, std::vector<CleanFeature>* outline)
 {
@@ -190,11 +254,12 @@ std::vector<std::uint32_t> Mesh::insert_points(const std::vector<CleanFeature>& 
     CGAL::spatial_sort(order.begin(), order.end(), CGAL::Spatial_sort_traits_adapter_2<cdt::Kernel, SortPointMap>());
     // No constraint exists yet: each point goes in as CGAL's constrained insert would put it
     // (locate, the plain triangulation's insertion, then the Delaunay flips around it) without
-    // the constrained insert's bookkeeping of constraint flags around the new vertex, which
-    // can only copy "not constrained" here (a sixth of the insertion's instructions). The same
-    // operations on the same faces: the same triangulation, face for face.
+    // the bookkeeping of constraint flags around the new vertex and around each flip, which can
+    // only copy "not constrained" here (BuildFlips). The same operations on the same faces:
+    // the same triangulation, face for face.
     cdt::Face_handle hint;
     std::size_t inserted = 0;
+    BuildFlips flips(m_tri);
     for (const SortPoint& p : order) {
         const cdt::Point pt(p.x, p.y);
         cdt::Triangulation::Locate_type lt{};
@@ -202,7 +267,7 @@ std::vector<std::uint32_t> Mesh::insert_points(const std::vector<CleanFeature>& 
         const cdt::Face_handle loc = m_tri.locate(pt, lt, li, hint);
         const cdt::Vertex_handle h = static_cast<cdt::CtBase::Triangulation&>(m_tri).insert(pt, lt, loc, li);
         if constexpr (cdt::k_delaunay) {
-            m_tri.flip_around(h);
+            flips.around(h);
         }
         m_vertices[p.id].handle = h;
         h->info().id = p.id;

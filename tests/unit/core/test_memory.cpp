@@ -17,6 +17,8 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <string>
+#include <utility>
 
 namespace trisnap {
 namespace {
@@ -317,6 +319,28 @@ TEST(EngineMemory, FaceListsInBlocksAreEachFeaturesFaces)
     EXPECT_EQ(labels.blocks[1].capacity(), 0u);
     for (std::size_t f : {std::size_t{0}, block - 1, 2 * block, clean.size() - 1}) {
         EXPECT_TRUE(same(f)) << "feature " << f << " after the middle block was freed";
+    }
+}
+
+// Mesh::insert_points puts the points in without CGAL's bookkeeping of constraint flags (there
+// are none yet), with its own copy of CGAL's flips (BuildFlips). The triangulation must still be
+// CGAL's constrained Delaunay one once the edges are in: CGAL's own check (every unconstrained
+// edge locally Delaunay, the data structure sound), on inputs full of co-circular points (an
+// exact grid, points exactly on circles), crossing squares and a jittered coverage.
+TEST(MeshBuild, TheBuiltTriangulationIsConstrainedDelaunay)
+{
+    const double t = 1e-6;
+    std::vector<std::pair<std::string, std::vector<Feature>>> inputs;
+    inputs.emplace_back("exact grid", perturbed_grid_coverage(40, 40, 1.0, 0.0, 1));
+    inputs.emplace_back("circles", std::vector<Feature>{circle(1, 2000, 10.0, 0.0, 2), circle(2, 500, 3.0, 0.0, 3)});
+    inputs.emplace_back("crossing squares", random_small_squares(3000, 1.0, 60.0, 4));
+    inputs.emplace_back("jittered coverage", perturbed_grid_coverage(30, 30, 1.0, 0.2, 5, 3));
+    for (const auto& [name, in] : inputs) {
+        std::vector<Problem> problems;
+        const std::vector<detail::CleanFeature> clean = detail::clean_input(in, t, problems);
+        detail::Mesh mesh(clean, t);
+        EXPECT_GT(mesh.tri().number_of_faces(), 2000u) << name;
+        EXPECT_TRUE(mesh.tri().is_valid()) << name;
     }
 }
 

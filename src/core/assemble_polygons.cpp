@@ -5,7 +5,9 @@
 #include "core/predicates.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <numeric>
@@ -168,14 +170,35 @@ void PolygonAssembler::index_vertices()
     m_out.resize(n);
     std::iota(m_out.begin(), m_out.end(), Index{0});
     for (std::size_t v = 0; v + 1 < m_first.size(); ++v) {
-        std::sort(m_out.begin() + m_first[v], m_out.begin() + m_first[v + 1],
-                  [&](Index i, Index j) { return direction_less(vertices[v], m_edges[i].b, m_edges[j].b); });
+        if (m_first[v + 1] - m_first[v] > 1) { // most vertices have one out-edge
+            std::sort(m_out.begin() + m_first[v], m_out.begin() + m_first[v + 1],
+                      [&](Index i, Index j) { return direction_less(vertices[v], m_edges[i].b, m_edges[j].b); });
+        }
+    }
+    // Each edge's end among the (distinct) start vertices, through a hash table of them: a
+    // binary search per edge was 2.5 % of a run's instructions on Natural Earth's countries.
+    // Coordinates are hashed as 0.0 + value, so -0.0 finds 0.0 as same_xy does.
+    const auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v + 0.0); };
+    const auto hash = [&](const Coord& c) {
+        const std::uint64_t h = (bits(c.x) * 0x9E3779B97F4A7C15ull) ^ (bits(c.y) + 0x632BE59BD9B4E019ull);
+        return (h ^ (h >> 29)) * 0xBF58476D1CE4E5B9ull;
+    };
+    std::size_t slots = 16;
+    while (slots < 2 * vertices.size()) slots *= 2;
+    std::vector<Index> table(slots, k_no);
+    for (Index v = 0; v < vertices.size(); ++v) {
+        std::size_t s = hash(vertices[v]) & (slots - 1);
+        while (table[s] != k_no) s = (s + 1) & (slots - 1);
+        table[s] = v;
     }
     m_vertex_of_end.assign(n, k_no);
     for (Index e = 0; e < n; ++e) {
-        auto it = std::lower_bound(vertices.begin(), vertices.end(), m_edges[e].b, xy_less);
-        if (it != vertices.end() && same_xy(*it, m_edges[e].b)) {
-            m_vertex_of_end[e] = static_cast<Index>(it - vertices.begin());
+        const Coord& b = m_edges[e].b;
+        for (std::size_t s = hash(b) & (slots - 1); table[s] != k_no; s = (s + 1) & (slots - 1)) {
+            if (same_xy(vertices[table[s]], b)) {
+                m_vertex_of_end[e] = table[s];
+                break;
+            }
         }
     }
     m_used.assign(n, false);

@@ -60,7 +60,7 @@ TEST(Assemble, SquareWithHoleIsCanonicalWhateverTheEdgeOrder)
 // ring still closes, as one polygon. (The lookup of edge ends hashes 0.0 + value so that -0.0
 // finds 0.0; with the raw bits hashed this ring closed all the same, not looked into why: this
 // checks the output only.)
-TEST(Assemble, NegativeZeroEndsFindTheirVertex)
+TEST(Assemble, RingWithNegativeZeroEndsCloses)
 {
     std::vector<DirectedEdge> e;
     add_ring(e, square(0, 0, 1));

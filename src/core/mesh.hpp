@@ -363,7 +363,18 @@ private:
 };
 
 double distance_point_segment(double px, double py, double ax, double ay, double bx, double by);
-/// The squared distance from p to the segment a-b (what the snapper compares).
-double squared_distance_point_segment(double px, double py, double ax, double ay, double bx, double by);
+/// The squared distance from p to the segment a-b (what the snapper compares). Inline: the
+/// initial scan asks it three times per face (a call was 1.8 % of a run's instructions); the
+/// same operations in the same order wherever it is compiled (-ffp-contract=off, no fast-math).
+inline double squared_distance_point_segment(double px, double py, double ax, double ay, double bx, double by)
+{
+    const double dx = bx - ax;
+    const double dy = by - ay;
+    const double len2 = dx * dx + dy * dy;
+    const double s = std::clamp(len2 > 0 ? ((px - ax) * dx + (py - ay) * dy) / len2 : 0.0, 0.0, 1.0);
+    const double ex = px - (ax + s * dx);
+    const double ey = py - (ay + s * dy);
+    return ex * ex + ey * ey;
+}
 
 } // namespace trisnap::detail

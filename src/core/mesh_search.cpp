@@ -81,17 +81,6 @@ double distance_point_segment(double px, double py, double ax, double ay, double
     return std::hypot(px - (ax + s * dx), py - (ay + s * dy));
 }
 
-double squared_distance_point_segment(double px, double py, double ax, double ay, double bx, double by)
-{
-    const double dx = bx - ax;
-    const double dy = by - ay;
-    const double len2 = dx * dx + dy * dy;
-    const double s = std::clamp(len2 > 0 ? ((px - ax) * dx + (py - ay) * dy) / len2 : 0.0, 0.0, 1.0);
-    const double ex = px - (ax + s * dx);
-    const double ey = py - (ay + s * dy);
-    return ex * ex + ey * ey;
-}
-
 void Mesh::set_long_edge_length2(double len2)
 {
     drop_long_index();

@@ -287,49 +287,61 @@ std::uint64_t RecordWriter::write(std::string_view record)
 
 bool RecordReader::fill(std::size_t n)
 {
-    if (m_buffer.size() - m_pos >= n) {
+    if (m_size - m_pos >= n) {
         return true;
     }
-    m_buffer.erase(0, m_pos);
+    const std::size_t have = m_size - m_pos;
+    if (m_pos > 0 && have > 0) {
+        std::memmove(m_data.get(), m_data.get() + m_pos, have);
+    }
     m_pos = 0;
-    const std::size_t have = m_buffer.size();
+    m_size = have;
     // A buffer's worth, but no more than the file holds: a reader of a small file (a tile's
-    // bucket, a seam file) would otherwise allocate and zero the whole buffer for a few records.
+    // bucket, a seam file) would otherwise allocate the whole buffer for a few records.
     // The size is a hint only: at least what the record needs is always asked for.
     const std::uint64_t size = m_file.size();
     const std::uint64_t remaining = size > m_consumed ? size - m_consumed : 0;
     const std::size_t want = std::max<std::size_t>(n - have, static_cast<std::size_t>(std::min<std::uint64_t>(m_capacity, remaining)));
-    m_buffer.resize(have + want);
+    if (have + want > m_room) {
+        // At least doubled, as the string grew: a buffer's worth after a leftover fits from then on.
+        const std::size_t room = std::max(have + want, 2 * m_room);
+        std::unique_ptr<char[]> bigger = std::make_unique_for_overwrite<char[]>(room);
+        if (have > 0) {
+            std::memcpy(bigger.get(), m_data.get(), have);
+        }
+        m_data = std::move(bigger);
+        m_room = room;
+    }
     std::size_t got = 0;
     while (got < want) {
-        const std::size_t k = m_file.read(m_buffer.data() + have + got, want - got);
+        const std::size_t k = m_file.read(m_data.get() + have + got, want - got);
         if (k == 0) {
             break;
         }
         got += k;
     }
     m_consumed += got;
-    m_buffer.resize(have + got);
-    return m_buffer.size() >= n;
+    m_size = have + got;
+    return m_size >= n;
 }
 
 bool RecordReader::next(std::string& record)
 {
     if (!fill(sizeof(std::uint32_t))) {
-        if (m_buffer.size() != m_pos) {
+        if (m_size != m_pos) {
             throw work_error("damaged work file: a record is cut short");
         }
         return false;
     }
     std::uint32_t n = 0;
-    std::memcpy(&n, m_buffer.data() + m_pos, sizeof n);
-    const std::size_t buffered = m_buffer.size() - m_pos - sizeof n;
+    std::memcpy(&n, m_data.get() + m_pos, sizeof n);
+    const std::size_t buffered = m_size - m_pos - sizeof n;
     if (buffered < n && n > m_capacity) {
         // A record larger than the buffer (a feature across a whole tile: ~1 MB of Natural
         // Earth's land) is read into `record` itself, not through a buffer grown to its size and
         // kept at it: fresh memory costs page faults (REPORT.md, "The stitch's memory").
         record.resize(n);
-        std::memcpy(record.data(), m_buffer.data() + m_pos + sizeof n, buffered);
+        std::memcpy(record.data(), m_data.get() + m_pos + sizeof n, buffered);
         std::size_t got = buffered;
         while (got < n) {
             const std::size_t k = m_file.read(record.data() + got, n - got);
@@ -339,14 +351,14 @@ bool RecordReader::next(std::string& record)
             got += k;
             m_consumed += k;
         }
-        m_buffer.clear();
+        m_size = 0;
         m_pos = 0;
         return true;
     }
     if (!fill(sizeof n + n)) {
         throw work_error("damaged work file: a record is cut short");
     }
-    record.assign(m_buffer, m_pos + sizeof n, n);
+    record.assign(m_data.get() + m_pos + sizeof n, n);
     m_pos += sizeof n + n;
     return true;
 }

@@ -108,7 +108,12 @@ private:
 
     InFile& m_file;
     std::size_t m_capacity;
-    std::string m_buffer;
+    /// Bytes read and not yet handed out: m_data[m_pos .. m_size). Allocated for overwrite: a
+    /// std::string resized before each read zeroed what the read then wrote (0.7 % of a run's
+    /// instructions on Natural Earth's countries).
+    std::unique_ptr<char[]> m_data;
+    std::size_t m_room = 0;
+    std::size_t m_size = 0;
     std::size_t m_pos = 0;
     std::uint64_t m_consumed = 0; ///< bytes read from the file so far
 };

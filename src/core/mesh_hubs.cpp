@@ -82,7 +82,8 @@ cdt::Vertex_handle Mesh::insert_bounded(const cdt::Point& p, cdt::Triangulation:
     if (m_tri.dimension() < 2) {
         return v;
     }
-    // CGAL's flip_around(v), with one budget for all its propagations.
+    // CGAL's flip_around(v), with one budget for all its propagations. (The build's unbounded
+    // twin without constraint flags is BuildFlips in mesh_build.cpp.)
     int budget = m_flip_budget;
     cdt::Face_handle f = v->face();
     const cdt::Face_handle start = f;

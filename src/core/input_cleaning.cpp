@@ -161,13 +161,27 @@ std::vector<CleanFeature> clean_input(const std::vector<Feature>& features, doub
     return out;
 }
 
-void cut_to_outline(CleanFeature& f)
+void cut_to_outlines(std::vector<CleanFeature>& features)
 {
-    auto first_only = [](std::vector<Coord>& points) {
-        if (!points.empty()) std::vector<Coord>{points.front()}.swap(points);
+    auto first_only = [](const std::vector<Coord>& points) {
+        return points.empty() ? std::vector<Coord>{} : std::vector<Coord>{points.front()};
     };
-    for (CleanRing& ring : f.rings) first_only(ring.points);
-    for (std::vector<Coord>& line : f.lines) first_only(line);
+    std::vector<CleanFeature> cut;
+    cut.reserve(features.size());
+    for (const CleanFeature& f : features) {
+        CleanFeature& o = cut.emplace_back();
+        o.index = f.index;
+        o.id = f.id;
+        o.polygonal = f.polygonal;
+        o.rejected = f.rejected;
+        o.shells = f.shells;
+        o.holes = f.holes;
+        o.rings.reserve(f.rings.size());
+        for (const CleanRing& r : f.rings) o.rings.push_back(CleanRing{first_only(r.points), r.polygon, r.hole});
+        o.lines.reserve(f.lines.size());
+        for (const std::vector<Coord>& l : f.lines) o.lines.push_back(first_only(l));
+    }
+    features.swap(cut);
 }
 
 } // namespace trisnap::detail

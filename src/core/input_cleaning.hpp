@@ -33,12 +33,16 @@ struct CleanFeature {
 CleanFeature clean_feature(std::int64_t id, const Geometry& g, std::size_t index, double tolerance,
                            std::vector<Problem>& problems);
 
-/// Cuts every ring and line of `f` to its first point; counts and flags stay. What the engine
-/// keeps of a feature once the triangulation's records hold its points (Mesh), and what stitch/
-/// reads back from its spool as an outline.
-void cut_to_outline(CleanFeature& f);
+/// Cuts every ring and line of every feature to its first point; counts and flags stay. What
+/// the engine keeps of a feature once the triangulation's records hold its points (Mesh), and
+/// what stitch/ reads back from its spool as an outline. The outlines are new allocations and
+/// the cleaned features are freed whole after them: cut one ring at a time, the rings' memory
+/// came back as a quarter of a million holes between the features' live ring tables, too small
+/// for anything the build allocates (Andorra x43 untiled: 38 MiB more heap at the peak).
+void cut_to_outlines(std::vector<CleanFeature>& features);
 
-/// Cleans every feature; `problems` receives one entry per repair kind per feature.
+/// Cleans every feature, one CleanFeature per input feature in their order (`index` its position);
+/// `problems` receives one entry per repair kind per feature.
 std::vector<CleanFeature> clean_input(const std::vector<Feature>& features, double tolerance,
                                       std::vector<Problem>& problems);
 

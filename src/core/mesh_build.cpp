@@ -217,7 +217,7 @@ std::vector<std::uint32_t> Mesh::insert_points(const std::vector<CleanFeature>& 
     std::vector<InputPoint> pts = gather_points(features, m_input_ids, m_input_first, path_sizes);
     if (outline != nullptr) {
         // `pts` holds every coordinate now, and the records will (vertices never move).
-        std::for_each(outline->begin(), outline->end(), cut_to_outline);
+        cut_to_outlines(*outline);
     }
     std::size_t distinct = 0;
     for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -303,7 +303,10 @@ void Mesh::insert_constraints(const std::vector<CleanFeature>& features, const s
     const std::size_t total_edges = m_input_ids.size(); // at most one per input point
     std::size_t edges_done = 0;
     m_owners.reserve(total_edges); // one per input edge, added here only
-    m_edge_owners.reserve(total_edges, total_edges); // crossings split a few more
+    // Crossings and the snapper's splits add entries: room for a few per cent more, as the
+    // records have (Andorra x43 untiled: 1,763 crossings past the input's 1.67 M edges doubled
+    // the entries' 13 MB at once).
+    m_edge_owners.reserve(total_edges, total_edges + total_edges / 32 + 256);
     std::vector<std::uint32_t> order(features.size());
     std::iota(order.begin(), order.end(), 0u);
     std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {

@@ -193,6 +193,10 @@ TEST(EngineMemory, OutlinedInputIsInTheRecords)
         const detail::CleanFeature& b = cut[f];
         ASSERT_EQ(b.rings.size(), a.rings.size());
         ASSERT_EQ(b.lines.size(), a.lines.size());
+        EXPECT_EQ(b.index, a.index);
+        EXPECT_EQ(b.id, a.id);
+        EXPECT_EQ(b.polygonal, a.polygonal);
+        EXPECT_EQ(b.rejected, a.rejected);
         EXPECT_EQ(b.shells, a.shells);
         EXPECT_EQ(b.holes, a.holes);
         std::vector<Coord> expected;
@@ -200,6 +204,7 @@ TEST(EngineMemory, OutlinedInputIsInTheRecords)
             ASSERT_EQ(b.rings[r].points.size(), 1u) << "feature " << f << " ring " << r << " is not cut";
             EXPECT_EQ(b.rings[r].points.front(), a.rings[r].points.front());
             EXPECT_EQ(b.rings[r].hole, a.rings[r].hole);
+            EXPECT_EQ(b.rings[r].polygon, a.rings[r].polygon);
             expected.insert(expected.end(), a.rings[r].points.begin(), a.rings[r].points.end());
         }
         for (std::size_t l = 0; l < a.lines.size(); ++l, ++lines) {

@@ -89,6 +89,14 @@ public:
     /// inserts new ones), so an input point's vertex, while alive, is exactly where it was read.
     bool is_input_point(std::uint32_t id) const { return id < m_input_points; }
     std::size_t vertex_slots() const { return m_vertices.size(); }
+    /// The squared distance of two vertices as the searches compute it (search_point's
+    /// distances are these, bit for bit, either way round).
+    double vertex_d2(std::uint32_t a, std::uint32_t b) const
+    {
+        const double ex = m_vertices[b].x - m_vertices[a].x;
+        const double ey = m_vertices[b].y - m_vertices[a].y;
+        return ex * ex + ey * ey;
+    }
     std::uint32_t id(cdt::Vertex_handle h) const { return h->info().id; }
     const Owner& owner_at(std::uint32_t index) const { return m_owners[index]; }
     std::size_t intersections() const { return m_intersections; }

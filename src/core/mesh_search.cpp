@@ -260,9 +260,7 @@ void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
             return;
         }
         m_vertex_stamp[w] = stamp;
-        const double ex = m_vertices[w].x - rv.x;
-        const double ey = m_vertices[w].y - rv.y;
-        const double d2 = ex * ex + ey * ey;
+        const double d2 = vertex_d2(v, w);
         m_vertex_d2[w] = d2;
         if (d2 > r2_vertex) {
             return;

@@ -64,9 +64,10 @@ bool Snapper::retry_parked()
         for (const auto& [x, other] : {std::pair{e.a, e.b}, std::pair{e.b, e.a}}) {
             MergeCandidate& c = m_candidate[x];
             const bool smaller = c.other == MergeCandidate::none ||
-                                 std::tie(e.d2, e.a, e.b) < std::make_tuple(c.d2, std::min(x, c.other), std::max(x, c.other));
+                                 std::tie(e.d2, e.a, e.b) <
+                                     std::make_tuple(m_mesh.vertex_d2(x, c.other), std::min(x, c.other), std::max(x, c.other));
             if (alive(e.a) && alive(e.b) && smaller) {
-                c = MergeCandidate{e.d2, other};
+                c = MergeCandidate{other};
             }
         }
     }

@@ -114,7 +114,7 @@ bool Snapper::register_nearest(std::uint32_t v)
         }
     }
     if (found) {
-        m_candidate[v] = MergeCandidate{std::get<0>(best), other};
+        m_candidate[v] = MergeCandidate{other};
         push(std::get<0>(best), Kind::merge, std::min(v, other), std::max(v, other), 0);
     }
     return found;

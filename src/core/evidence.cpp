@@ -98,11 +98,11 @@ std::vector<double> edge_deviation(const Mesh& mesh, std::size_t features, const
     return worst;
 }
 
-void report_collapsed_edges(const Mesh& mesh, const std::vector<CleanFeature>& clean, const std::vector<bool>& written,
-                            const Region& region, std::vector<Problem>& problems)
+CollapsedEdges collapsed_edges(const Mesh& mesh, std::size_t features, const Region& region)
 {
-    std::vector<std::size_t> count(clean.size(), 0);
-    std::vector<Coord> where(clean.size());
+    CollapsedEdges found{std::vector<std::size_t>(features, 0), std::vector<Coord>(features)};
+    std::vector<std::size_t>& count = found.count;
+    std::vector<Coord>& where = found.where;
     // A piece of a polygon's input edge has the same membership on both sides exactly when the
     // polygon owns it an even number of times: labels are crossing parities (labelling.cpp), and
     // each polygon's pieces form closed chains, so the parity does not depend on the path. That
@@ -130,6 +130,14 @@ void report_collapsed_edges(const Mesh& mesh, const std::vector<CleanFeature>& c
             count[c.feature] += c.times;
         }
     });
+    return found;
+}
+
+void report_collapsed_edges(const CollapsedEdges& found, const std::vector<CleanFeature>& clean,
+                            const std::vector<bool>& written, std::vector<Problem>& problems)
+{
+    const std::vector<std::size_t>& count = found.count;
+    const std::vector<Coord>& where = found.where;
     for (std::size_t f = 0; f < clean.size(); ++f) {
         if (count[f] == 0 || !written[f]) {
             continue;

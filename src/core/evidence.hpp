@@ -24,10 +24,19 @@ std::vector<bool> self_intersecting(const Mesh& mesh, std::size_t features, cons
 /// edge is read from its owner's end records (`from`, `to`), which never move.
 std::vector<double> edge_deviation(const Mesh& mesh, std::size_t features, const Region& region);
 
-/// 209 for every polygon (not collapsed entirely: `written[f]`) with input edge pieces that have
-/// the same membership on both sides (owned an even number of times), at the smallest such piece.
-void report_collapsed_edges(const Mesh& mesh, const std::vector<CleanFeature>& clean, const std::vector<bool>& written,
-                            const Region& region, std::vector<Problem>& problems);
+/// Each polygon's input edge pieces that have the same membership on both sides (owned an even
+/// number of times): how many, and the smallest one's midpoint. Read from the owner table,
+/// before the outputs are made (Mesh::release_owners).
+struct CollapsedEdges {
+    std::vector<std::size_t> count; ///< by feature index
+    std::vector<Coord> where;
+};
+CollapsedEdges collapsed_edges(const Mesh& mesh, std::size_t features, const Region& region);
+
+/// 209 for every polygon (not collapsed entirely: `written[f]`) with such pieces, at the
+/// smallest.
+void report_collapsed_edges(const CollapsedEdges& found, const std::vector<CleanFeature>& clean,
+                            const std::vector<bool>& written, std::vector<Problem>& problems);
 
 /// 205 (cap reached) or 207 (guard refused a split) for every feature with an edge at an
 /// unresolved vertex; `grid` > 0: the message says the run was not rounded to it.

@@ -1,7 +1,8 @@
 #pragma once
 // Output geometry from the snapped triangulation: each feature's directed boundary edges (the
 // edges between its faces and the others, the feature on the left) or its lines' sub-edges,
-// in output coordinates, handed to the one assembler (core/assemble.hpp) that tiles use too.
+// taken out by vertex id while the triangulation lives, then made output coordinates from the
+// vertex records and handed to the one assembler (core/assemble.hpp) that tiles use too.
 #include "core/assemble.hpp"
 #include "core/geometry.hpp"
 #include "core/mesh.hpp"
@@ -19,17 +20,26 @@ struct ExtractOptions {
 /// The output coordinate of a vertex (grid-rounded, z only when the feature has z).
 Coord output_coord(const Mesh& mesh, std::uint32_t v, const ExtractOptions& options);
 
-Geometry extract_polygons(Mesh& mesh, std::span<const cdt::Face_handle> faces,
-                          const ExtractOptions& options);
-
-/// Directed sub-edges of each line feature's constraints, bucketed by feature index.
-struct LineEdge {
+/// A directed edge between two vertices, by id. The outputs' edges are taken out of the
+/// triangulation this way before it is freed (snap.cpp), and made coordinates after.
+struct IdEdge {
     std::uint32_t from, to;
 };
-std::vector<std::vector<LineEdge>> collect_line_edges(Mesh& mesh, std::size_t feature_count);
 
-/// Chains one line feature's edges; `part_starts` are its parts' first input points.
-Geometry extract_lines(const Mesh& mesh, const std::vector<LineEdge>& edges,
+/// Appends the boundary edges of a polygon feature's faces (the edges between them and the
+/// other faces, the feature on the left), in the faces' order.
+void append_boundary_edges(Mesh& mesh, std::span<const cdt::Face_handle> faces, std::vector<IdEdge>& out);
+
+/// Rings from one polygon feature's boundary edges. Reads only the vertex records, so it runs
+/// after Mesh::release_triangulation().
+Geometry assemble_boundary(const Mesh& mesh, std::span<const IdEdge> edges, const ExtractOptions& options);
+
+/// Directed sub-edges of each line feature's constraints, bucketed by feature index.
+std::vector<std::vector<IdEdge>> collect_line_edges(Mesh& mesh, std::size_t feature_count);
+
+/// Chains one line feature's edges; `part_starts` are its parts' first input points. Reads only
+/// the vertex records.
+Geometry extract_lines(const Mesh& mesh, std::span<const IdEdge> edges,
                        const std::vector<Coord>& part_starts, const ExtractOptions& options);
 
 } // namespace trisnap::detail

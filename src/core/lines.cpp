@@ -3,13 +3,13 @@
 
 namespace trisnap::detail {
 
-std::vector<std::vector<LineEdge>> collect_line_edges(Mesh& mesh, std::size_t feature_count)
+std::vector<std::vector<IdEdge>> collect_line_edges(Mesh& mesh, std::size_t feature_count)
 {
-    std::vector<std::vector<LineEdge>> out(feature_count);
+    std::vector<std::vector<IdEdge>> out(feature_count);
     mesh.for_each_owned_edge([&](std::uint32_t u, std::uint32_t v, OwnerRef ref) {
         const Owner& o = mesh.owner_at(ref.owner);
         if (o.line) {
-            out[o.feature].push_back(ref.forward ? LineEdge{u, v} : LineEdge{v, u});
+            out[o.feature].push_back(ref.forward ? IdEdge{u, v} : IdEdge{v, u});
         }
     });
     return out;
@@ -17,12 +17,12 @@ std::vector<std::vector<LineEdge>> collect_line_edges(Mesh& mesh, std::size_t fe
 
 // The assembler orders edges itself (exactly, by coordinates), so the order of constraints
 // (the owner table's) does not reach the output.
-Geometry extract_lines(const Mesh& mesh, const std::vector<LineEdge>& edges,
+Geometry extract_lines(const Mesh& mesh, std::span<const IdEdge> edges,
                        const std::vector<Coord>& part_starts, const ExtractOptions& options)
 {
     std::vector<DirectedEdge> directed;
     directed.reserve(edges.size());
-    for (const LineEdge& e : edges) {
+    for (const IdEdge& e : edges) {
         directed.push_back(DirectedEdge{output_coord(mesh, e.from, options), output_coord(mesh, e.to, options)});
     }
     std::vector<Coord> starts;

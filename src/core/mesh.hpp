@@ -226,6 +226,16 @@ public:
         std::vector<double>().swap(m_vertex_d2);
         drop_long_index();
     }
+    /// Frees the owner tables (which input edges run along which edges) once nothing reads them
+    /// any more; snap.cpp takes the evidence and the lines' edges out first.
+    void release_owners();
+    /// Frees CGAL's triangulation and the edits' scratch once the outputs' edges are taken out of
+    /// it (core/extraction.hpp), so the outputs are made in the memory it held (Andorra x43
+    /// untiled: 230 MB of faces and vertices). The vertex records stay (coordinates, z,
+    /// forwarding, input ids: the outputs and the drift read them); their handles do not, and
+    /// nothing that reads the triangulation or the owners may be called after it.
+    void release_triangulation();
+    bool triangulation_released() const { return m_released; }
     /// Whether the long edges are in a grid (core/long_edges.hpp; for the tests).
     bool long_edges_indexed() const { return m_long_indexed; }
 
@@ -351,6 +361,7 @@ private:
     std::size_t m_floored_walks = 0; ///< nearest-only walks held at the edge radius, before the grid
     std::size_t m_floored_faces = 0; ///< and the faces they walked
     double m_ulp_margin = 0; ///< 64 ulps of the largest coordinate (the frame's)
+    bool m_released = false; ///< release_triangulation() was called
     bool m_non_delaunay = false; ///< a bound left an edge as it was (core/mesh_hubs.cpp)
     std::size_t m_hub_degree = 1024;
     int m_flip_budget = 96;

@@ -504,3 +504,30 @@ void Mesh::owners_of_edge(std::uint32_t a, std::uint32_t b, std::vector<std::uin
 }
 
 } // namespace trisnap::detail
+
+namespace trisnap::detail {
+
+void Mesh::release_owners()
+{
+    std::vector<Owner>().swap(m_owners);
+    m_edge_owners = EdgeOwners{};
+    std::vector<OwnerRef>().swap(m_arena);
+    std::vector<OwnerRef>().swap(m_refs);
+}
+
+void Mesh::release_triangulation()
+{
+    release_search_scratch();
+    release_owners();
+    m_tri.clear(); // CGAL's containers free their blocks
+    std::vector<Job>().swap(m_jobs);
+    std::vector<Saved>().swap(m_saved);
+    std::vector<cdt::Face_handle>().swap(m_walk);
+    std::vector<cdt::Face_handle>().swap(m_hub_faces);
+    for (VertexRecord& r : m_vertices) {
+        r.handle = cdt::Vertex_handle{}; // no handle outlives its vertex
+    }
+    m_released = true;
+}
+
+} // namespace trisnap::detail

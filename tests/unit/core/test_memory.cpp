@@ -10,7 +10,10 @@
 #include "generators.hpp"
 #include "mesh_harness.hpp"
 
+#include "core/extraction.hpp"
 #include "core/labelling.hpp"
+#include "core/snapper.hpp"
+#include "core/wkt.hpp"
 
 #include <gtest/gtest.h>
 
@@ -324,6 +327,83 @@ TEST(EngineMemory, FaceListsInBlocksAreEachFeaturesFaces)
     EXPECT_EQ(labels.blocks[1].capacity(), 0u);
     for (std::size_t f : {std::size_t{0}, block - 1, 2 * block, clean.size() - 1}) {
         EXPECT_TRUE(same(f)) << "feature " << f << " after the middle block was freed";
+    }
+}
+
+// The snapper keeps no distance with a vertex's merge candidate: Mesh::vertex_d2 gives it again
+// and must be the searches' distance bit for bit, either way round, for every pair a search
+// finds (a candidate's key compared with a parked pair's in Snapper::retry_parked).
+TEST(EngineMemory, PairDistancesAreTheSearchesBitForBit)
+{
+    SearchedMesh m(60, 10.0, 11);
+    std::size_t pairs = 0;
+    for (std::uint32_t v = 0; v < m.vertices(); ++v) {
+        for (const auto& [d2, w] : m.before[v]) {
+            if (w == v) continue;
+            ++pairs;
+            ASSERT_EQ(m.mesh.vertex_d2(v, w), d2) << "vertices " << v << ", " << w;
+            ASSERT_EQ(m.mesh.vertex_d2(w, v), d2) << "vertices " << w << ", " << v;
+        }
+    }
+    EXPECT_GT(pairs, 100u);
+}
+
+// The outputs are made after the triangulation is freed: each polygon's boundary edges and each
+// line's edges are taken out by vertex id first (and the owner table freed), then
+// Mesh::release_triangulation() frees CGAL's faces and vertices and keeps the records. Every
+// feature's geometry made from the ids after the release is the one made while the mesh lived,
+// on a snapped mesh with merged and split vertices (records of dead vertices among them).
+TEST(EngineMemory, OutputsAfterTheTriangulationIsFreedAreTheLiveMeshs)
+{
+    const double t = 0.05;
+    std::vector<Feature> in = near_degenerate_polygons(40, 10.0, t, 5);
+    in.push_back(dense_line(2000, 300, 0.02, 0.3, 8));
+    in.push_back(dense_line(2001, 60, 0.1, 0.0, 9));
+    std::vector<Problem> problems;
+    std::vector<detail::CleanFeature> clean = detail::clean_input(in, t, problems);
+    detail::Mesh mesh(clean, 2 * t, nullptr, detail::Mesh::outline_input);
+    detail::SnapperParams params;
+    params.vertex_threshold = t;
+    params.edge_threshold = t / 2;
+    params.max_operations = 100000;
+    const detail::SnapperOutcome out = detail::run_snapper(mesh, params);
+    ASSERT_TRUE(out.converged);
+    ASSERT_GT(out.merges, 0u);
+    ASSERT_GT(out.splits, 0u);
+    mesh.release_search_scratch();
+    detail::FaceLabels labels = detail::label_faces(mesh, clean.size());
+    const detail::ExtractOptions eo{0.0, false};
+    std::vector<std::string> live(clean.size());
+    std::vector<std::vector<detail::IdEdge>> boundary(clean.size());
+    const std::vector<std::vector<detail::IdEdge>> lines = detail::collect_line_edges(mesh, clean.size());
+    auto starts = [&](std::size_t f) {
+        std::vector<Coord> s;
+        for (const auto& l : clean[f].lines) s.push_back(l.front());
+        return s;
+    };
+    std::size_t polygons = 0, line_features = 0;
+    for (std::size_t f = 0; f < clean.size(); ++f) {
+        if (clean[f].polygonal) {
+            detail::append_boundary_edges(mesh, labels.faces_of(f), boundary[f]);
+            live[f] = to_wkt(detail::assemble_boundary(mesh, boundary[f], eo));
+            polygons += live[f] != "POLYGON EMPTY" ? 1 : 0;
+        } else {
+            live[f] = to_wkt(detail::extract_lines(mesh, lines[f], starts(f), eo));
+            ++line_features;
+        }
+    }
+    EXPECT_GT(polygons, 30u);
+    EXPECT_EQ(line_features, 2u);
+    const std::size_t vertices = mesh.tri().number_of_vertices();
+    ASSERT_GT(vertices, 100u);
+    mesh.release_triangulation();
+    EXPECT_TRUE(mesh.triangulation_released());
+    EXPECT_EQ(mesh.tri().number_of_vertices(), 0u);
+    EXPECT_EQ(mesh.tri().number_of_faces(), 0u);
+    for (std::size_t f = 0; f < clean.size(); ++f) {
+        const std::string after = clean[f].polygonal ? to_wkt(detail::assemble_boundary(mesh, boundary[f], eo))
+                                                     : to_wkt(detail::extract_lines(mesh, lines[f], starts(f), eo));
+        EXPECT_EQ(after, live[f]) << "feature " << f;
     }
 }
 

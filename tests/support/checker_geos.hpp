@@ -6,6 +6,7 @@
 #include <geos_c.h>
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -67,8 +68,11 @@ struct Side {
 };
 
 /// Reads every feature. With `strict` (the input side) a WKT that does not parse throws
-/// std::invalid_argument; otherwise the reason is kept in SideFeature::parse_error.
-Side load_side(GeosContext& ctx, const std::vector<CheckedFeature>& features, bool strict);
+/// std::invalid_argument; otherwise the reason is kept in SideFeature::parse_error. A feature
+/// with a coordinate beyond `magnitude_limit` in absolute value is left unread the same way
+/// (accounted for, not measured).
+Side load_side(GeosContext& ctx, const std::vector<CheckedFeature>& features, bool strict,
+               double magnitude_limit = std::numeric_limits<double>::infinity());
 
 /// GEOS's reason when a present feature is invalid, else an empty string.
 std::string invalid_reason(const GeosContext& ctx, const SideFeature& feature);

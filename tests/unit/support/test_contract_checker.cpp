@@ -299,6 +299,40 @@ TEST(ContractChecker, AProblemThatKeepsTheFeatureDoesNotExcuseItsAbsence) {
     EXPECT_NE(r.summary().find("missing: id 2"), std::string::npos) << r.summary();
 }
 
+// Beyond twice the engine's range (2^45 t; it refuses 2^44 t: 109) an input feature is only
+// accounted for, not measured: GEOS's MakeValid ran for minutes repairing one invalid ring found by
+// fuzz_snap (tests/fuzz/corpus/snap/timeout-affa8b71...). The feature must still be in the output
+// or reported not written.
+TEST(ContractChecker, InputBeyondTheEnginesRangeIsAccountedForNotMeasured) {
+    // The limit is 2^45 t, not a fixed magnitude: a square of side 1e14 shifted by 1,000 is
+    // measured at t = 10 (2^45 t = 3.5e14) and only accounted for at t = 1 (3.5e13), where its
+    // output is still judged. (Asserted first: with no limit the ring below takes minutes.)
+    const std::vector<CheckedFeature> big = {{3, box(0, 0, 1e14, 1e14)}};
+    const std::vector<CheckedFeature> moved = {{3, box(1000, 0, 1e14 + 1000, 1e14)}};
+    EXPECT_NEAR(check_contract(big, moved, 10.0).max_hausdorff, 1000.0, 1.0);
+    const ContractReport beyond = check_contract(big, moved, 1.0);
+    ASSERT_EQ(beyond.max_hausdorff, 0.0);
+    EXPECT_EQ(beyond.n_missing, 0u);
+    const ContractReport bowtie = check_contract(big, {{3, "POLYGON ((0 0, 1e14 1e14, 1e14 0, 0 1e14, 0 0))"}}, 1.0);
+    EXPECT_EQ(bowtie.n_invalid, 1u) << "an output is judged whatever its input's range";
+    // The ring fuzz_snap found: invalid, 1e260 mixed with 1e-300, refused by the engine (109).
+    const std::vector<CheckedFeature> in = {
+        {1, box(0, 0, 10, 10)},
+        {2, "POLYGON ((-1.6882786079646144e+260 -1.6882786079646144e+260, 4.17432562795794e-309 "
+            "1.5269567547508066e-207, 3.13199090077924e-294 -1.6882775771325816e+260, -1.6882786079646144e+260 "
+            "3.131990893623477e-294, 1.1414629785276562e-305 1.5269567547508066e-207, 1.1392378182087e-305 "
+            "3.395193266335e-312, 2.716159275073e-311 3.18301310125e-313, 0 0, -1.6882786079646144e+260 "
+            "-1.6882786079646144e+260))"}};
+    const std::vector<CheckedFeature> out = {{1, box(0, 0, 10, 10)}, {2, "POLYGON EMPTY"}};
+    ContractRules r = rules(0);
+    r.not_written_codes = {109};
+    const ContractReport reported = check_contract(in, out, {{2, 109}}, 0.6, r);
+    EXPECT_EQ(reported.n_missing, 0u);
+    EXPECT_TRUE(contract_holds(reported, 0.6)) << reported.summary();
+    const ContractReport silent = check_contract(in, out, {}, 0.6, r);
+    EXPECT_EQ(silent.n_missing, 1u) << "a feature beyond the range is still accounted for";
+}
+
 TEST(ContractChecker, FlaggedFeaturesAreBoundedPerCase) {
     // Both squares drift 0.7 (within 2t) and lose their shared edge; flagged with 209 they are
     // exempt from the shared-boundary check, but only as many as the case allows.

@@ -2,8 +2,8 @@
 // after the snapper and comes back if a search needs it, the output's rings carry no spare
 // capacity (closing a ring once doubled every ring's allocation: 34 MB of heap on Andorra x43),
 // the cleaned input is cut to outlines once the mesh's records hold its points, and the faces
-// of each feature are held in blocks of features, each one allocation, and a layer without z
-// holds no z values.
+// of each feature are held in blocks of features, each one allocation, a layer without z
+// holds no z values, and the outputs are made after the triangulation is freed.
 // Peak memory itself is measured by bench_pipeline (peak_mb) and bench/estimates, not here.
 #include "snap_harness.hpp"
 

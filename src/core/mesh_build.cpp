@@ -503,10 +503,6 @@ void Mesh::owners_of_edge(std::uint32_t a, std::uint32_t b, std::vector<std::uin
     }
 }
 
-} // namespace trisnap::detail
-
-namespace trisnap::detail {
-
 void Mesh::release_owners()
 {
     std::vector<Owner>().swap(m_owners);

@@ -197,7 +197,6 @@ std::uint32_t Mesh::next_stamp()
         for (auto f : m_tri.all_face_handles()) {
             f->info().mark = 0;
         }
-        std::fill(m_vertex_stamp.begin(), m_vertex_stamp.end(), 0u);
         m_stamp = 1;
     }
     return m_stamp;
@@ -206,16 +205,32 @@ std::uint32_t Mesh::next_stamp()
 void Mesh::ensure_search_scratch()
 {
     const std::size_t n = m_vertices.size();
-    if (m_vertex_stamp.size() >= n) {
+    if (m_vertex_d2.size() >= n) {
         return;
     }
-    if (m_vertex_stamp.capacity() == 0) { // the room the vertex records have (insert_points)
-        m_vertex_stamp.reserve(n + n / 32 + 256);
+    if (m_vertex_d2.capacity() == 0) { // the room the vertex records have (insert_points)
         m_vertex_d2.reserve(n + n / 32 + 256);
     }
-    m_vertex_stamp.resize(n, 0u); // 0: older than every stamp handed out
-    m_vertex_d2.resize(n, 0.0);
+    m_vertex_d2.resize(n, k_unseen); // not seen by any search yet
 }
+
+// Puts back the slots a search wrote (m_seen) to "not seen", however the search ends.
+class Mesh::SeenReset {
+public:
+    explicit SeenReset(Mesh& mesh) : m_mesh(mesh) {}
+    SeenReset(const SeenReset&) = delete;
+    SeenReset& operator=(const SeenReset&) = delete;
+    ~SeenReset()
+    {
+        for (const std::uint32_t w : m_mesh.m_seen) {
+            m_mesh.m_vertex_d2[w] = k_unseen;
+        }
+        m_mesh.m_seen.clear();
+    }
+
+private:
+    Mesh& m_mesh;
+};
 
 void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
                         std::vector<std::pair<double, std::uint32_t>>& vertices, std::vector<EdgeHit>& edges,
@@ -256,12 +271,12 @@ void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
     // the edges it met (a tolerance larger than the features walked the whole layer per vertex:
     // one CLC polygon of 44 k vertices at 0.5 degrees took 300 s).
     const auto see_vertex = [&](std::uint32_t w) {
-        if (m_vertex_stamp[w] == stamp) {
+        if (!std::isnan(m_vertex_d2[w])) {
             return;
         }
-        m_vertex_stamp[w] = stamp;
         const double d2 = vertex_d2(v, w);
         m_vertex_d2[w] = d2;
+        m_seen.push_back(w);
         if (d2 > r2_vertex) {
             return;
         }
@@ -297,8 +312,9 @@ void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
             }
         }
     };
-    m_vertex_stamp[v] = stamp;
+    const SeenReset reset(*this);
     m_vertex_d2[v] = 0;
+    m_seen.push_back(v);
     if (nearest_only) {
         // v's neighbours first (in a constrained Delaunay triangulation the nearest visible
         // vertex is one of them): the walk starts with its reach already shrunk.
@@ -335,10 +351,11 @@ void Mesh::search_segment(std::uint32_t b, std::uint32_t c, double r2,
     const std::uint32_t stamp = next_stamp();
     const VertexRecord& rb = m_vertices[b];
     const VertexRecord& rc = m_vertices[c];
-    m_vertex_stamp[b] = stamp;
-    m_vertex_stamp[c] = stamp;
+    const SeenReset reset(*this);
     m_vertex_d2[b] = 0;
     m_vertex_d2[c] = 0;
+    m_seen.push_back(b);
+    m_seen.push_back(c);
     // Start from the faces around b: two of them hold the edge, so the walk with the capsule
     // test covers the whole edge.
     walk_region(
@@ -355,13 +372,13 @@ void Mesh::search_segment(std::uint32_t b, std::uint32_t c, double r2,
             ++m_faces_walked;
             for (int i = 0; i < 3; ++i) {
                 const std::uint32_t w = f->vertex(i)->info().id;
-                if (m_vertex_stamp[w] == stamp) {
+                if (!std::isnan(m_vertex_d2[w])) {
                     continue;
                 }
-                m_vertex_stamp[w] = stamp;
                 const VertexRecord& rw = m_vertices[w];
                 const double d2 = squared_distance_point_segment(rw.x, rw.y, rb.x, rb.y, rc.x, rc.y);
                 m_vertex_d2[w] = d2;
+                m_seen.push_back(w);
                 if (d2 <= r2) {
                     vertices.emplace_back(d2, w);
                 }

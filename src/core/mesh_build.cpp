@@ -231,7 +231,7 @@ std::vector<std::uint32_t> Mesh::insert_points(const std::vector<CleanFeature>& 
     // which the process keeps (src/app/allocator.hpp): Natural Earth land at 2 km, 150 k
     // merges, peaked 41 MiB higher growing by an eighth.
     const std::size_t total = distinct + frame_vertices;
-    const std::size_t room = total + total / 32 + 256;
+    const std::size_t room = with_room(total);
     m_vertices.reserve(room);
     m_forward.reserve(room);
     m_vertices.resize(total);
@@ -303,10 +303,7 @@ void Mesh::insert_constraints(const std::vector<CleanFeature>& features, const s
     const std::size_t total_edges = m_input_ids.size(); // at most one per input point
     std::size_t edges_done = 0;
     m_owners.reserve(total_edges); // one per input edge, added here only
-    // Crossings and the snapper's splits add entries: room for a few per cent more, as the
-    // records have (Andorra x43 untiled: 1,763 crossings past the input's 1.67 M edges doubled
-    // the entries' 13 MB at once).
-    m_edge_owners.reserve(total_edges, total_edges + total_edges / 32 + 256);
+    m_edge_owners.reserve(total_edges, with_room(total_edges)); // crossings and splits add entries
     std::vector<std::uint32_t> order(features.size());
     std::iota(order.begin(), order.end(), 0u);
     std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
@@ -523,7 +520,6 @@ void Mesh::release_triangulation()
     for (VertexRecord& r : m_vertices) {
         r.handle = cdt::Vertex_handle{}; // no handle outlives its vertex
     }
-    m_released = true;
 }
 
 } // namespace trisnap::detail

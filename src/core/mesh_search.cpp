@@ -209,7 +209,7 @@ void Mesh::ensure_search_scratch()
         return;
     }
     if (m_vertex_d2.capacity() == 0) { // the room the vertex records have (insert_points)
-        m_vertex_d2.reserve(n + n / 32 + 256);
+        m_vertex_d2.reserve(with_room(n));
     }
     m_vertex_d2.resize(n, k_unseen); // not seen by any search yet
 }

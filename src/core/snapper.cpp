@@ -117,7 +117,7 @@ void Snapper::collect_unresolved()
 
 SnapperOutcome Snapper::run()
 {
-    m_candidate.reserve(m_mesh.vertex_slots() + m_mesh.vertex_slots() / 32 + 256); // room for the edits' vertices
+    m_candidate.reserve(with_room(m_mesh.vertex_slots())); // room for the edits' vertices
     m_candidate.resize(m_mesh.vertex_slots());
     m_mesh.set_long_edge_length2(std::max(0.0, long_edge2()));
     initial_scan(false);

@@ -30,14 +30,19 @@ void append_boundary_edges(Mesh& mesh, std::span<const cdt::Face_handle> faces, 
     }
 }
 
-Geometry assemble_boundary(const Mesh& mesh, std::span<const IdEdge> edges, const ExtractOptions& options)
+std::vector<DirectedEdge> directed_edges(const Mesh& mesh, std::span<const IdEdge> edges, const ExtractOptions& options)
 {
     std::vector<DirectedEdge> directed;
     directed.reserve(edges.size());
     for (const IdEdge& e : edges) {
         directed.push_back(DirectedEdge{output_coord(mesh, e.from, options), output_coord(mesh, e.to, options)});
     }
-    return assemble_polygons(std::move(directed), options.has_z);
+    return directed;
+}
+
+Geometry assemble_boundary(const Mesh& mesh, std::span<const IdEdge> edges, const ExtractOptions& options)
+{
+    return assemble_polygons(directed_edges(mesh, edges, options), options.has_z);
 }
 
 } // namespace trisnap::detail

@@ -26,6 +26,9 @@ struct IdEdge {
     std::uint32_t from, to;
 };
 
+/// The edges in output coordinates (output_coord), in their order.
+std::vector<DirectedEdge> directed_edges(const Mesh& mesh, std::span<const IdEdge> edges, const ExtractOptions& options);
+
 /// Appends the boundary edges of a polygon feature's faces (the edges between them and the
 /// other faces, the feature on the left), in the faces' order.
 void append_boundary_edges(Mesh& mesh, std::span<const cdt::Face_handle> faces, std::vector<IdEdge>& out);

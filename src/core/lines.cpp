@@ -20,11 +20,7 @@ std::vector<std::vector<IdEdge>> collect_line_edges(Mesh& mesh, std::size_t feat
 Geometry extract_lines(const Mesh& mesh, std::span<const IdEdge> edges,
                        const std::vector<Coord>& part_starts, const ExtractOptions& options)
 {
-    std::vector<DirectedEdge> directed;
-    directed.reserve(edges.size());
-    for (const IdEdge& e : edges) {
-        directed.push_back(DirectedEdge{output_coord(mesh, e.from, options), output_coord(mesh, e.to, options)});
-    }
+    std::vector<DirectedEdge> directed = directed_edges(mesh, edges, options);
     std::vector<Coord> starts;
     for (const Coord& s : part_starts) {
         starts.push_back(round_to_grid(s, options.grid));

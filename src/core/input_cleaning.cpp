@@ -161,6 +161,9 @@ std::vector<CleanFeature> clean_input(const std::vector<Feature>& features, doub
     return out;
 }
 
+// Each field is copied by name; a field added to CleanFeature must be added here too.
+static_assert(sizeof(CleanFeature) == 88, "CleanFeature changed: copy its new field in cut_to_outlines");
+
 void cut_to_outlines(std::vector<CleanFeature>& features)
 {
     auto first_only = [](const std::vector<Coord>& points) {

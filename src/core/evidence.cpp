@@ -98,17 +98,17 @@ std::vector<double> edge_deviation(const Mesh& mesh, std::size_t features, const
     return worst;
 }
 
-CollapsedEdges collapsed_edges(const Mesh& mesh, std::size_t features, const Region& region)
+CollapsedEdges collapsed_edges(const Mesh& mesh, const Region& region)
 {
-    CollapsedEdges found{std::vector<std::size_t>(features, 0), std::vector<Coord>(features)};
-    std::vector<std::size_t>& count = found.count;
-    std::vector<Coord>& where = found.where;
     // A piece of a polygon's input edge has the same membership on both sides exactly when the
     // polygon owns it an even number of times: labels are crossing parities (labelling.cpp), and
     // each polygon's pieces form closed chains, so the parity does not depend on the path. That
     // is read from the owner table; only an edge with such a piece is checked against the
-    // triangulation (an owned pair that is no constrained edge of it bounds nothing). The counts
-    // and the smallest midpoint do not depend on the order.
+    // triangulation (an owned pair that is no constrained edge of it bounds nothing). Every piece
+    // is kept, then each feature's are summed and the smallest midpoint taken: neither depends on
+    // the table's order.
+    CollapsedEdges out;
+    std::vector<CollapsedEdge>& pieces = out.found;
     std::vector<FeatureCount> counts;
     mesh.for_each_edge_with_owners([&](std::uint32_t u, std::uint32_t v, std::span<const OwnerRef> refs) {
         mesh.polygon_ownership(refs, counts);
@@ -124,29 +124,37 @@ CollapsedEdges collapsed_edges(const Mesh& mesh, std::size_t features, const Reg
             if (is_edge == 0 || !region.contains(mid.x, mid.y)) {
                 continue;
             }
-            if (count[c.feature] == 0 || std::tie(mid.x, mid.y) < std::tie(where[c.feature].x, where[c.feature].y)) {
-                where[c.feature] = mid;
-            }
-            count[c.feature] += c.times;
+            pieces.push_back(CollapsedEdge{c.feature, c.times, mid});
         }
     });
-    return found;
+    std::sort(pieces.begin(), pieces.end(), [](const CollapsedEdge& a, const CollapsedEdge& b) {
+        return std::tie(a.feature, a.where.x, a.where.y) < std::tie(b.feature, b.where.x, b.where.y);
+    });
+    std::size_t kept = 0;
+    for (std::size_t k = 0; k < pieces.size(); ++k) {
+        if (kept > 0 && pieces[kept - 1].feature == pieces[k].feature) {
+            pieces[kept - 1].count += pieces[k].count; // the first of a feature's has the smallest midpoint
+        } else {
+            pieces[kept++] = pieces[k];
+        }
+    }
+    pieces.resize(kept);
+    pieces.shrink_to_fit();
+    return out;
 }
 
 void report_collapsed_edges(const CollapsedEdges& found, const std::vector<CleanFeature>& clean,
                             const std::vector<bool>& written, std::vector<Problem>& problems)
 {
-    const std::vector<std::size_t>& count = found.count;
-    const std::vector<Coord>& where = found.where;
-    for (std::size_t f = 0; f < clean.size(); ++f) {
-        if (count[f] == 0 || !written[f]) {
+    for (const CollapsedEdge& e : found.found) {
+        if (!written[e.feature]) {
             continue;
         }
-        problems.push_back(Problem{clean[f].id, ProblemCode::thin_part_collapsed,
+        problems.push_back(Problem{clean[e.feature].id, ProblemCode::thin_part_collapsed,
             // No count of the pieces: a tile counts only those in its core, and the report must
             // read the same whatever the tiling (the stitch keeps one 209 per feature).
             "input edges no longer bound the polygon from here on: a part thinner than the tolerance collapsed",
-            where[f].x, where[f].y});
+            e.where.x, e.where.y});
     }
 }
 

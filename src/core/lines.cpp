@@ -3,15 +3,35 @@
 
 namespace trisnap::detail {
 
-std::vector<std::vector<IdEdge>> collect_line_edges(Mesh& mesh, std::size_t feature_count)
+// Two passes over the owner table, counting then placing: each feature's edges in the table's
+// order, as one vector per feature had them.
+LineEdges collect_line_edges(Mesh& mesh, std::size_t feature_count)
 {
-    std::vector<std::vector<IdEdge>> out(feature_count);
+    LineEdges out;
+    mesh.for_each_owned_edge([&](std::uint32_t, std::uint32_t, OwnerRef ref) {
+        const Owner& o = mesh.owner_at(ref.owner);
+        if (o.line) {
+            if (out.first.empty()) out.first.assign(feature_count + 1, 0);
+            ++out.first[o.feature + 1];
+        }
+    });
+    if (out.first.empty()) {
+        return out;
+    }
+    for (std::size_t f = 0; f < feature_count; ++f) {
+        out.first[f + 1] += out.first[f];
+    }
+    out.edges.resize(out.first.back());
+    // first[f] serves as feature f's next place while filling, which leaves it at first[f + 1];
+    // shifting the table one place back then gives the starts again.
     mesh.for_each_owned_edge([&](std::uint32_t u, std::uint32_t v, OwnerRef ref) {
         const Owner& o = mesh.owner_at(ref.owner);
         if (o.line) {
-            out[o.feature].push_back(ref.forward ? IdEdge{u, v} : IdEdge{v, u});
+            out.edges[out.first[o.feature]++] = ref.forward ? IdEdge{u, v} : IdEdge{v, u};
         }
     });
+    std::copy_backward(out.first.begin(), out.first.end() - 1, out.first.end());
+    out.first[0] = 0;
     return out;
 }
 

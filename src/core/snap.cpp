@@ -191,7 +191,7 @@ Boundaries take_boundaries(Context& c, detail::FaceLabels& labels)
 }
 
 void extract_block(Context& c, const Boundaries& boundaries, const std::vector<double>& deviation,
-                   const std::vector<std::vector<detail::IdEdge>>& lines, std::size_t lo, std::size_t hi)
+                   const detail::LineEdges& lines, std::size_t lo, std::size_t hi)
 {
     for (std::size_t f = lo; f < hi; ++f) {
         const CleanFeature& cf = c.clean[f];
@@ -207,7 +207,7 @@ void extract_block(Context& c, const Boundaries& boundaries, const std::vector<d
             for (const auto& l : cf.lines) {
                 starts.push_back(l.front());
             }
-            out.geometry = detail::extract_lines(c.mesh, lines[f], starts, eo);
+            out.geometry = detail::extract_lines(c.mesh, lines.of(f), starts, eo);
         }
         out.geometry.has_z = has_z;
         out.max_displacement = std::max(feature_displacement(c, f), deviation[f]);
@@ -317,8 +317,8 @@ SnapResult snap_features(const std::vector<Feature>& features, const SnapOptions
     // lists freed as they go), then the triangulation itself. Andorra x43 untiled: the heap in
     // use peaked at the end of the extraction, CGAL's 230 MB beside the outputs' 58 MB.
     const std::vector<double> deviation = detail::edge_deviation(mesh, clean.size(), options.report_region);
-    const std::vector<std::vector<detail::IdEdge>> lines = detail::collect_line_edges(mesh, clean.size());
-    const detail::CollapsedEdges collapsed = detail::collapsed_edges(mesh, clean.size(), options.report_region);
+    const detail::LineEdges lines = detail::collect_line_edges(mesh, clean.size());
+    const detail::CollapsedEdges collapsed = detail::collapsed_edges(mesh, options.report_region);
     std::vector<Problem> unresolved;
     detail::report_unresolved(mesh, outcome, clean, options.report_region, options.grid, unresolved);
     shared.after(mesh);

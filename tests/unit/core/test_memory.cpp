@@ -375,7 +375,7 @@ TEST(EngineMemory, OutputsAfterTheTriangulationIsFreedAreTheLiveMeshs)
     const detail::ExtractOptions eo{0.0, false};
     std::vector<std::string> live(clean.size());
     std::vector<std::vector<detail::IdEdge>> boundary(clean.size());
-    const std::vector<std::vector<detail::IdEdge>> lines = detail::collect_line_edges(mesh, clean.size());
+    const detail::LineEdges lines = detail::collect_line_edges(mesh, clean.size());
     auto starts = [&](std::size_t f) {
         std::vector<Coord> s;
         for (const auto& l : clean[f].lines) s.push_back(l.front());
@@ -388,7 +388,7 @@ TEST(EngineMemory, OutputsAfterTheTriangulationIsFreedAreTheLiveMeshs)
             live[f] = to_wkt(detail::assemble_boundary(mesh, boundary[f], eo));
             polygons += live[f] != "POLYGON EMPTY" ? 1 : 0;
         } else {
-            live[f] = to_wkt(detail::extract_lines(mesh, lines[f], starts(f), eo));
+            live[f] = to_wkt(detail::extract_lines(mesh, lines.of(f), starts(f), eo));
             ++line_features;
         }
     }
@@ -401,7 +401,7 @@ TEST(EngineMemory, OutputsAfterTheTriangulationIsFreedAreTheLiveMeshs)
     EXPECT_EQ(mesh.tri().number_of_faces(), 0u);
     for (std::size_t f = 0; f < clean.size(); ++f) {
         const std::string after = clean[f].polygonal ? to_wkt(detail::assemble_boundary(mesh, boundary[f], eo))
-                                                     : to_wkt(detail::extract_lines(mesh, lines[f], starts(f), eo));
+                                                     : to_wkt(detail::extract_lines(mesh, lines.of(f), starts(f), eo));
         EXPECT_EQ(after, live[f]) << "feature " << f;
     }
 }

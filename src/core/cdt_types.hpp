@@ -35,9 +35,13 @@ namespace trisnap::cdt {
 
 inline constexpr std::uint32_t k_no_id = std::numeric_limits<std::uint32_t>::max();
 
-/// Our id of a triangulation vertex (k_no_id: not registered yet).
+/// Our id of a triangulation vertex (k_no_id: not registered yet), and `seen`, the vertex's
+/// place in the current search's list of seen vertices if it is there (Mesh::seen_d2: a stale
+/// place names another vertex or lies past the list's end). It sits in what was the vertex's
+/// padding: a vertex is 32 bytes with it or without (a point, a face handle and these two).
 struct VertexInfo {
     std::uint32_t id = k_no_id;
+    std::uint32_t seen = 0;
 };
 
 /// Marks stay below this: FaceInfo keeps one in 28 bits (Mesh::next_stamp wraps there).
@@ -82,5 +86,6 @@ inline constexpr bool k_delaunay = true;
 using Vertex_handle = Triangulation::Vertex_handle;
 using Face_handle = Triangulation::Face_handle;
 static_assert(sizeof(Triangulation::Face) <= 56, "one face per triangle, twice the vertices: keep it small");
+static_assert(sizeof(Triangulation::Vertex) <= 32, "one vertex per point: VertexInfo lives in its padding");
 
 } // namespace trisnap::cdt

@@ -226,12 +226,11 @@ public:
     /// The owners of edges vertex v was split into, once per split (and those of the vertices
     /// merged into it).
     const std::vector<std::uint32_t>& snapped_into(std::uint32_t v) const;
-    /// Frees the searches' per-vertex scratch (8 bytes a vertex) once no more searches are
-    /// coming (after the snapper); a later search would allocate it again.
+    /// Frees the searches' scratch once no more searches are coming (after the snapper); a later
+    /// search would allocate it again.
     void release_search_scratch()
     {
-        std::vector<double>().swap(m_vertex_d2);
-        std::vector<std::uint32_t>().swap(m_seen);
+        std::vector<Seen>().swap(m_seen);
         drop_long_index();
     }
     /// Frees the owner tables (which input edges run along which edges) once nothing reads them
@@ -335,7 +334,6 @@ private:
     void index_long_edge(std::uint32_t a, std::uint32_t b, int delta);
     void drop_long_index();
     std::uint32_t next_stamp();
-    void ensure_search_scratch();
 
     cdt::Triangulation m_tri;
     std::vector<VertexRecord> m_vertices;
@@ -351,16 +349,28 @@ private:
     /// on Andorra x43); feature f's start at m_input_first[f].
     std::vector<std::uint32_t> m_input_ids;
     std::vector<std::size_t> m_input_first;
-    // The searches' scratch, one slot per vertex, sized by them (ensure_search_scratch) and
-    // dropped when the snapper is done (release_search_scratch): the squared distance of each
-    // vertex the current search has seen, k_unseen (NaN) for the others. A search puts back the
-    // slots it wrote (m_seen, SeenReset), so between searches every slot is k_unseen. (A stamp per
-    // vertex told seen from unseen until 2026-12-03: 4 bytes a vertex more, 6.6 MB of Andorra
-    // x43's untiled peak.)
-    static constexpr double k_unseen = std::numeric_limits<double>::quiet_NaN();
-    class SeenReset;
-    std::vector<double> m_vertex_d2;
-    std::vector<std::uint32_t> m_seen;
+    // The vertices the current search has seen, with their squared distances, in the order
+    // seen; a vertex's place in it is in its VertexInfo::seen (a sparse set: a place that is past
+    // the end or names another vertex is left from an earlier search). Each search starts it
+    // empty, so nothing is put back, also after an exception. Until 2026-12-03 a table of 8
+    // bytes a vertex (13 MB of Andorra x43's untiled peak) held the distances, and before that a
+    // stamp per vertex besides.
+    struct Seen {
+        std::uint32_t id;
+        double d2;
+    };
+    std::vector<Seen> m_seen;
+    /// Vertex h's squared distance in the current search, NaN when it has not seen h.
+    double seen_d2(cdt::Vertex_handle h) const
+    {
+        const std::uint32_t s = h->info().seen;
+        return s < m_seen.size() && m_seen[s].id == h->info().id ? m_seen[s].d2 : std::numeric_limits<double>::quiet_NaN();
+    }
+    void mark_seen(cdt::Vertex_handle h, double d2)
+    {
+        h->info().seen = static_cast<std::uint32_t>(m_seen.size());
+        m_seen.push_back(Seen{h->info().id, d2});
+    }
     std::uint32_t m_stamp = 0;
     std::size_t m_intersections = 0;
     std::size_t m_faces_walked = 0;

@@ -35,7 +35,7 @@ double squared_segment_distance(double ax, double ay, double bx, double by, doub
 }
 
 // Walks the faces meeting a region from the faces around `start`. `meets(a, b)` says whether the
-// segment between two vertex ids meets the region; `visit(face)` sees each face once.
+// segment between two vertices meets the region; `visit(face)` sees each face once.
 template <class Meets, class Visit>
 void walk_region(cdt::Triangulation& tri, cdt::Vertex_handle start, std::uint32_t stamp,
                  std::vector<cdt::Face_handle>& stack, Meets&& meets, Visit&& visit)
@@ -61,7 +61,7 @@ void walk_region(cdt::Triangulation& tri, cdt::Vertex_handle start, std::uint32_
             if (tri.is_infinite(n) || n->info().mark == stamp) {
                 continue;
             }
-            if (!meets(f->vertex(cdt::Triangulation::cw(i))->info().id, f->vertex(cdt::Triangulation::ccw(i))->info().id)) {
+            if (!meets(f->vertex(cdt::Triangulation::cw(i)), f->vertex(cdt::Triangulation::ccw(i)))) {
                 continue;
             }
             n->info().mark = stamp;
@@ -202,36 +202,6 @@ std::uint32_t Mesh::next_stamp()
     return m_stamp;
 }
 
-void Mesh::ensure_search_scratch()
-{
-    const std::size_t n = m_vertices.size();
-    if (m_vertex_d2.size() >= n) {
-        return;
-    }
-    if (m_vertex_d2.capacity() == 0) { // the room the vertex records have (insert_points)
-        m_vertex_d2.reserve(with_room(n));
-    }
-    m_vertex_d2.resize(n, k_unseen); // not seen by any search yet
-}
-
-// Puts back the slots a search wrote (m_seen) to "not seen", however the search ends.
-class Mesh::SeenReset {
-public:
-    explicit SeenReset(Mesh& mesh) : m_mesh(mesh) {}
-    SeenReset(const SeenReset&) = delete;
-    SeenReset& operator=(const SeenReset&) = delete;
-    ~SeenReset()
-    {
-        for (const std::uint32_t w : m_mesh.m_seen) {
-            m_mesh.m_vertex_d2[w] = k_unseen;
-        }
-        m_mesh.m_seen.clear();
-    }
-
-private:
-    Mesh& m_mesh;
-};
-
 void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
                         std::vector<std::pair<double, std::uint32_t>>& vertices, std::vector<EdgeHit>& edges,
                         bool nearest_only, const std::unordered_set<std::uint64_t>* passed_over)
@@ -241,7 +211,7 @@ void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
     if (m_tri.dimension() < 2) {
         return;
     }
-    ensure_search_scratch();
+    m_seen.clear();
     const std::uint32_t stamp = next_stamp();
     const VertexRecord& rv = m_vertices[v];
     double reach2 = std::max(r2_vertex, r2_edge);
@@ -270,13 +240,13 @@ void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
     // Snapper::discover_segment): the walk then shrinks below it too, and `edges` holds only
     // the edges it met (a tolerance larger than the features walked the whole layer per vertex:
     // one CLC polygon of 44 k vertices at 0.5 degrees took 300 s).
-    const auto see_vertex = [&](std::uint32_t w) {
-        if (!std::isnan(m_vertex_d2[w])) {
+    const auto see_vertex = [&](cdt::Vertex_handle h) {
+        if (!std::isnan(seen_d2(h))) {
             return;
         }
+        const std::uint32_t w = h->info().id;
         const double d2 = vertex_d2(v, w);
-        m_vertex_d2[w] = d2;
-        m_seen.push_back(w);
+        mark_seen(h, d2);
         if (d2 > r2_vertex) {
             return;
         }
@@ -295,7 +265,7 @@ void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
     const auto visit_face = [&](cdt::Face_handle f) {
         ++m_faces_walked;
         for (int i = 0; i < 3; ++i) {
-            see_vertex(f->vertex(i)->info().id);
+            see_vertex(f->vertex(i));
             // A constrained edge in reach meets the region, so the walk visits both its faces:
             // take it from one of them (the order of `edges` means nothing to the callers).
             if (!f->is_constrained(i) || (f->neighbor(i) < f && !m_tri.is_infinite(f->neighbor(i)))) {
@@ -312,9 +282,7 @@ void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
             }
         }
     };
-    const SeenReset reset(*this);
-    m_vertex_d2[v] = 0;
-    m_seen.push_back(v);
+    mark_seen(rv.handle, 0);
     if (nearest_only) {
         // v's neighbours first (in a constrained Delaunay triangulation the nearest visible
         // vertex is one of them): the walk starts with its reach already shrunk.
@@ -322,15 +290,15 @@ void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
         const auto done = vc;
         do {
             if (!m_tri.is_infinite(vc)) {
-                see_vertex(vc->info().id);
+                see_vertex(vc);
             }
         } while (++vc != done);
     }
     // An edge with an end in reach meets the disk: the ends' distances (the face was visited
     // first) decide most edges without the distance to the segment.
     walk_region(m_tri, rv.handle, stamp, m_walk,
-                [&](std::uint32_t a, std::uint32_t b) {
-                    return m_vertex_d2[a] <= reach2 || m_vertex_d2[b] <= reach2 || seg_dist2(a, b) <= reach2;
+                [&](cdt::Vertex_handle a, cdt::Vertex_handle b) {
+                    return seen_d2(a) <= reach2 || seen_d2(b) <= reach2 || seg_dist2(a->info().id, b->info().id) <= reach2;
                 },
                 visit_face);
     if (from_grid) {
@@ -347,38 +315,35 @@ void Mesh::search_segment(std::uint32_t b, std::uint32_t c, double r2,
     if (m_tri.dimension() < 2) {
         return;
     }
-    ensure_search_scratch();
+    m_seen.clear();
     const std::uint32_t stamp = next_stamp();
     const VertexRecord& rb = m_vertices[b];
     const VertexRecord& rc = m_vertices[c];
-    const SeenReset reset(*this);
-    m_vertex_d2[b] = 0;
-    m_vertex_d2[c] = 0;
-    m_seen.push_back(b);
-    m_seen.push_back(c);
+    mark_seen(rb.handle, 0);
+    mark_seen(rc.handle, 0);
     // Start from the faces around b: two of them hold the edge, so the walk with the capsule
     // test covers the whole edge.
     walk_region(
         m_tri, rb.handle, stamp, m_walk,
-        [&](std::uint32_t p, std::uint32_t q) {
-            if (m_vertex_d2[p] <= r2 || m_vertex_d2[q] <= r2) { // an end in the capsule (as above)
+        [&](cdt::Vertex_handle p, cdt::Vertex_handle q) {
+            if (seen_d2(p) <= r2 || seen_d2(q) <= r2) { // an end in the capsule (as above)
                 return true;
             }
-            const VertexRecord& rp = m_vertices[p];
-            const VertexRecord& rq = m_vertices[q];
+            const VertexRecord& rp = m_vertices[p->info().id];
+            const VertexRecord& rq = m_vertices[q->info().id];
             return squared_segment_distance(rb.x, rb.y, rc.x, rc.y, rp.x, rp.y, rq.x, rq.y) <= r2;
         },
         [&](cdt::Face_handle f) {
             ++m_faces_walked;
             for (int i = 0; i < 3; ++i) {
-                const std::uint32_t w = f->vertex(i)->info().id;
-                if (!std::isnan(m_vertex_d2[w])) {
+                const cdt::Vertex_handle h = f->vertex(i);
+                if (!std::isnan(seen_d2(h))) {
                     continue;
                 }
+                const std::uint32_t w = h->info().id;
                 const VertexRecord& rw = m_vertices[w];
                 const double d2 = squared_distance_point_segment(rw.x, rw.y, rb.x, rb.y, rc.x, rc.y);
-                m_vertex_d2[w] = d2;
-                m_seen.push_back(w);
+                mark_seen(h, d2);
                 if (d2 <= r2) {
                     vertices.emplace_back(d2, w);
                 }

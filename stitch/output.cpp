@@ -327,7 +327,7 @@ bool OutputMerger::next(OutputItem& item)
             item.output.max_displacement = std::max(item.output.max_displacement, p.displacement);
         }
         m.tile_problems(cf, pieces, item.problems);
-        if (detail::outcome_problems(cf, item.output.geometry, item.output.max_displacement, m.options, item.problems)) {
+        if (detail::outcome_problems(detail::outline_of(cf), item.output.geometry, item.output.max_displacement, m.options, item.problems)) {
             ++m.counts.stats.collapsed_features;
         }
         m.lost_boundaries(cf, rank, item.output.geometry, pieces, item.problems);

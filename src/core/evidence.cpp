@@ -143,7 +143,7 @@ CollapsedEdges collapsed_edges(const Mesh& mesh, const Region& region)
     return out;
 }
 
-void report_collapsed_edges(const CollapsedEdges& found, const std::vector<CleanFeature>& clean,
+void report_collapsed_edges(const CollapsedEdges& found, const std::vector<Outline>& clean,
                             const std::vector<bool>& written, std::vector<Problem>& problems)
 {
     for (const CollapsedEdge& e : found.found) {
@@ -158,7 +158,7 @@ void report_collapsed_edges(const CollapsedEdges& found, const std::vector<Clean
     }
 }
 
-void report_unresolved(Mesh& mesh, const SnapperOutcome& outcome, const std::vector<CleanFeature>& clean,
+void report_unresolved(Mesh& mesh, const SnapperOutcome& outcome, const std::vector<Outline>& clean,
                        const Region& region, double grid, std::vector<Problem>& problems)
 {
     const ProblemCode code = outcome.converged ? ProblemCode::separation_not_reached : ProblemCode::not_converged;

@@ -41,12 +41,12 @@ CollapsedEdges collapsed_edges(const Mesh& mesh, const Region& region);
 
 /// 209 for every polygon (not collapsed entirely: `written[f]`) with such pieces, at the
 /// smallest.
-void report_collapsed_edges(const CollapsedEdges& found, const std::vector<CleanFeature>& clean,
+void report_collapsed_edges(const CollapsedEdges& found, const std::vector<Outline>& clean,
                             const std::vector<bool>& written, std::vector<Problem>& problems);
 
 /// 205 (cap reached) or 207 (guard refused a split) for every feature with an edge at an
 /// unresolved vertex; `grid` > 0: the message says the run was not rounded to it.
-void report_unresolved(Mesh& mesh, const SnapperOutcome& outcome, const std::vector<CleanFeature>& clean,
+void report_unresolved(Mesh& mesh, const SnapperOutcome& outcome, const std::vector<Outline>& clean,
                        const Region& region, double grid, std::vector<Problem>& problems);
 
 } // namespace trisnap::detail

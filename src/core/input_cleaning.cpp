@@ -3,7 +3,10 @@
 #include "core/snap.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
+#include <limits>
+#include <stdexcept>
 #include <string>
 
 namespace trisnap::detail {
@@ -161,30 +164,55 @@ std::vector<CleanFeature> clean_input(const std::vector<Feature>& features, doub
     return out;
 }
 
-// Each field is copied by name; a field added to CleanFeature must be added here too.
-static_assert(sizeof(CleanFeature) == 88, "CleanFeature changed: copy its new field in cut_to_outlines");
+namespace {
 
-void cut_to_outlines(std::vector<CleanFeature>& features)
+std::uint32_t count32(std::size_t n, const char* what)
 {
-    auto first_only = [](const std::vector<Coord>& points) {
-        return points.empty() ? std::vector<Coord>{} : std::vector<Coord>{points.front()};
-    };
-    std::vector<CleanFeature> cut;
-    cut.reserve(features.size());
-    for (const CleanFeature& f : features) {
-        CleanFeature& o = cut.emplace_back();
-        o.index = f.index;
-        o.id = f.id;
-        o.polygonal = f.polygonal;
-        o.rejected = f.rejected;
-        o.shells = f.shells;
-        o.holes = f.holes;
-        o.rings.reserve(f.rings.size());
-        for (const CleanRing& r : f.rings) o.rings.push_back(CleanRing{first_only(r.points), r.polygon, r.hole});
-        o.lines.reserve(f.lines.size());
-        for (const std::vector<Coord>& l : f.lines) o.lines.push_back(first_only(l));
+    if (n > std::numeric_limits<std::uint32_t>::max()) {
+        throw std::length_error(std::string("more than 2^32 ") + what + " in one feature");
     }
-    features.swap(cut);
+    return static_cast<std::uint32_t>(n);
+}
+
+} // namespace
+
+// Each field is set by name; a field added to CleanFeature must be looked at here too.
+static_assert(sizeof(CleanFeature) == 88, "CleanFeature changed: see whether its outline needs the new field");
+
+Outline outline_of(const CleanFeature& f)
+{
+    Outline o;
+    o.index = f.index;
+    o.id = f.id;
+    o.polygonal = f.polygonal;
+    o.rejected = f.rejected;
+    assert(f.polygonal ? f.lines.empty() : f.rings.empty()); // clean_feature makes rings or lines
+    o.paths = count32(f.rings.size() + f.lines.size(), "rings or lines");
+    o.parts = count32(f.polygonal ? f.shells : f.lines.size(), "parts");
+    o.holes = count32(f.holes, "holes");
+    const Coord* first = nullptr;
+    if (f.polygonal && !f.rings.empty() && !f.rings.front().points.empty()) first = &f.rings.front().points.front();
+    if (!f.polygonal && !f.lines.empty() && !f.lines.front().empty()) first = &f.lines.front().front();
+    if (first != nullptr) {
+        o.x = first->x;
+        o.y = first->y;
+    }
+    return o;
+}
+
+Outlines make_outlines(const std::vector<CleanFeature>& features)
+{
+    Outlines out;
+    out.features.reserve(features.size());
+    std::size_t lines = 0;
+    for (const CleanFeature& f : features) lines += f.lines.size();
+    out.line_starts.reserve(lines);
+    for (const CleanFeature& f : features) {
+        Outline& o = out.features.emplace_back(outline_of(f));
+        o.first_line = count32(out.line_starts.size(), "lines in all"); // the engine refuses 2^31 points first
+        for (const std::vector<Coord>& l : f.lines) out.line_starts.push_back(l.front());
+    }
+    return out;
 }
 
 } // namespace trisnap::detail

@@ -33,13 +33,42 @@ struct CleanFeature {
 CleanFeature clean_feature(std::int64_t id, const Geometry& g, std::size_t index, double tolerance,
                            std::vector<Problem>& problems);
 
-/// Cuts every ring and line of every feature to its first point; counts and flags stay. What
-/// the engine keeps of a feature once the triangulation's records hold its points (Mesh), and
-/// what stitch/ reads back from its spool as an outline. The outlines are new allocations and
-/// the cleaned features are freed whole after them: cut one ring at a time, the rings' memory
-/// came back as a quarter of a million holes between the features' live ring tables, too small
-/// for anything the build allocates (Andorra x43 untiled: 38 MiB more heap at the peak).
-void cut_to_outlines(std::vector<CleanFeature>& features);
+/// What the engine keeps of a cleaned feature once the mesh's records hold its points (Mesh's
+/// outlining constructor), and what its problems need: ids, flags, counts and where to place
+/// them. 56 bytes and no allocation: the features cut to their first points as CleanFeatures
+/// kept 88 bytes and two allocations a ring (Andorra x43 untiled: 35.8 MB at the peak).
+struct Outline {
+    std::size_t index = 0;        ///< position in the caller's vector
+    std::int64_t id = 0;
+    std::uint32_t paths = 0;      ///< its rings, or its lines
+    std::uint32_t parts = 0;      ///< kept polygon parts (shells), or its lines
+    std::uint32_t holes = 0;      ///< kept holes
+    std::uint32_t first_line = 0; ///< its lines' first points start here in Outlines::line_starts
+    double x = 0, y = 0;          ///< its first point (first ring's or line's): where its problems are
+    bool polygonal = false;
+    bool rejected = false;        ///< nothing of it went into the triangulation
+};
+static_assert(sizeof(Outline) <= 56, "Outline is one per feature for the whole run: keep it small");
+
+struct Outlines {
+    std::vector<Outline> features; ///< one per cleaned feature, in their order
+    std::vector<Coord> line_starts; ///< each line's first point, feature after feature
+    std::size_t size() const { return features.size(); }
+    const Outline& operator[](std::size_t f) const { return features[f]; }
+    /// Feature f's lines' first points (none for a polygon).
+    std::vector<Coord> starts(std::size_t f) const
+    {
+        const Outline& o = features[f];
+        if (o.polygonal) return {};
+        return {line_starts.begin() + o.first_line, line_starts.begin() + o.first_line + o.parts};
+    }
+};
+
+/// One feature's outline (first_line 0: its lines' first points are not kept). Throws
+/// std::length_error when a count does not fit 32 bits.
+Outline outline_of(const CleanFeature& f);
+/// Every feature's outline, and their lines' first points.
+Outlines make_outlines(const std::vector<CleanFeature>& features);
 
 /// Cleans every feature, one CleanFeature per input feature in their order (`index` its position);
 /// `problems` receives one entry per repair kind per feature.

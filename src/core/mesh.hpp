@@ -78,13 +78,11 @@ public:
     /// `reach`: the largest snapping distance; the frame corners stay further than that.
     /// `meter` (optional) hears the points and constraints steps.
     Mesh(const std::vector<CleanFeature>& features, double reach, WorkMeter* meter = nullptr);
-    /// The same, and cuts `features` to their outlines (cut_to_outline: counts, flags, first
-    /// points) as soon as the vertex records hold their points, before CGAL's vertices and faces
-    /// are made: input_vertices() and vertex() give every input point from then on. The cleaned
+    /// The same, and frees `features` as soon as the vertex records hold their points, before
+    /// CGAL's vertices and faces are made, keeping only their `outlines` (counts, flags, first
+    /// points): input_vertices() and vertex() give every input point from then on. The cleaned
     /// copy was 40 bytes per input vertex beside the whole build (Andorra x43 untiled: 76 MB).
-    struct OutlineInput {};
-    static constexpr OutlineInput outline_input{};
-    Mesh(std::vector<CleanFeature>& features, double reach, WorkMeter* meter, OutlineInput);
+    Mesh(std::vector<CleanFeature>&& features, double reach, WorkMeter* meter, Outlines& outlines);
 
     cdt::Triangulation& tri() { return m_tri; }
     const cdt::Triangulation& tri() const { return m_tri; }
@@ -262,14 +260,15 @@ private:
     };
 
     // mesh_build.cpp
-    /// Returns each ring's and line's point count, features in order, rings then lines.
-    /// `outline`, when given, is `features`: cut to outlines once the records hold the points.
+    /// Returns each ring's and line's point count, features in order, rings then lines, and
+    /// makes `outlines` of `features`. `release`, when given, is `features`: freed once the
+    /// records hold the points.
     std::vector<std::uint32_t> insert_points(const std::vector<CleanFeature>& features, double reach, WorkMeter* meter,
-                                             std::vector<CleanFeature>* outline);
-    void insert_constraints(const std::vector<CleanFeature>& features, const std::vector<std::uint32_t>& path_sizes,
+                                             Outlines& outlines, std::vector<CleanFeature>* release);
+    void insert_constraints(const std::vector<Outline>& features, const std::vector<std::uint32_t>& path_sizes,
                             WorkMeter* meter);
-    void build(const std::vector<CleanFeature>& features, double reach, WorkMeter* meter,
-               std::vector<CleanFeature>* outline);
+    void build(const std::vector<CleanFeature>& features, double reach, WorkMeter* meter, Outlines& outlines,
+               std::vector<CleanFeature>* release);
     void register_created_vertices(std::size_t first_created);
     std::uint32_t add_record(cdt::Vertex_handle h, double z);
     void set_z(std::uint32_t id, double z);

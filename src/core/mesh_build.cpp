@@ -79,23 +79,24 @@ double mean_z(std::vector<InputPoint>::const_iterator first, std::vector<InputPo
 
 Mesh::Mesh(const std::vector<CleanFeature>& features, double reach, WorkMeter* meter)
 {
-    build(features, reach, meter, nullptr);
+    Outlines outlines;
+    build(features, reach, meter, outlines, nullptr);
 }
 
-Mesh::Mesh(std::vector<CleanFeature>& features, double reach, WorkMeter* meter, OutlineInput)
+Mesh::Mesh(std::vector<CleanFeature>&& features, double reach, WorkMeter* meter, Outlines& outlines)
 {
-    build(features, reach, meter, &features);
+    build(features, reach, meter, outlines, &features);
 }
 
-void Mesh::build(const std::vector<CleanFeature>& features, double reach, WorkMeter* meter,
-                 std::vector<CleanFeature>* outline)
+void Mesh::build(const std::vector<CleanFeature>& features, double reach, WorkMeter* meter, Outlines& outlines,
+                 std::vector<CleanFeature>* release)
 {
     // Only the snapper's edits need the list of new edges: the build would list every
     // constraint (13 MB on Andorra x43, at the build's peak).
     m_list_new_edges = false;
-    const std::vector<std::uint32_t> path_sizes = insert_points(features, reach, meter, outline);
+    const std::vector<std::uint32_t> path_sizes = insert_points(features, reach, meter, outlines, release);
     const std::size_t first_created = m_vertices.size();
-    insert_constraints(features, path_sizes, meter);
+    insert_constraints(outlines.features, path_sizes, meter); // `features` may be freed by now
     register_created_vertices(first_created);
     m_list_new_edges = true;
 }
@@ -210,14 +211,15 @@ private:
 };
 
 std::vector<std::uint32_t> Mesh::insert_points(const std::vector<CleanFeature>& features, double reach,
-                                               WorkMeter* meter, std::vector<CleanFeature>* outline)
+                                               WorkMeter* meter, Outlines& outlines, std::vector<CleanFeature>* release)
 {
     if (meter) meter->begin(WorkMeter::Step::points);
     std::vector<std::uint32_t> path_sizes;
     std::vector<InputPoint> pts = gather_points(features, m_input_ids, m_input_first, path_sizes);
-    if (outline != nullptr) {
+    outlines = make_outlines(features);
+    if (release != nullptr) {
         // `pts` holds every coordinate now, and the records will (vertices never move).
-        cut_to_outlines(*outline);
+        std::vector<CleanFeature>().swap(*release);
     }
     std::size_t distinct = 0;
     for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -291,13 +293,13 @@ std::vector<std::uint32_t> Mesh::insert_points(const std::vector<CleanFeature>& 
 
 // Features are inserted in (id, index) order so crossings are found in an order that does not
 // depend on how the caller ordered its features.
-void Mesh::insert_constraints(const std::vector<CleanFeature>& features, const std::vector<std::uint32_t>& path_sizes,
+void Mesh::insert_constraints(const std::vector<Outline>& features, const std::vector<std::uint32_t>& path_sizes,
                               WorkMeter* meter)
 {
     // Each feature's first path in path_sizes (features in input order there).
     std::vector<std::size_t> first_path(features.size() + 1, 0);
     for (std::size_t f = 0; f < features.size(); ++f) {
-        first_path[f + 1] = first_path[f] + features[f].rings.size() + features[f].lines.size();
+        first_path[f + 1] = first_path[f] + features[f].paths;
     }
     if (meter) meter->begin(WorkMeter::Step::constraints);
     const std::size_t total_edges = m_input_ids.size(); // at most one per input point
@@ -324,11 +326,10 @@ void Mesh::insert_constraints(const std::vector<CleanFeature>& features, const s
             }
             base += n;
         };
-        const CleanFeature& cf = features[f];
+        const Outline& o = features[f];
         const std::uint32_t* sizes = path_sizes.data() + first_path[f];
-        for (std::size_t p = 0; p < cf.rings.size() + cf.lines.size(); ++p) {
-            const bool line = p >= cf.rings.size(); // rings first, then lines
-            add_path(sizes[p], !line, line);
+        for (std::size_t p = 0; p < o.paths; ++p) {
+            add_path(sizes[p], o.polygonal, !o.polygonal); // a polygon's paths are rings, a line feature's lines
         }
     }
 }

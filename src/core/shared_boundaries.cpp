@@ -151,7 +151,7 @@ void SharedBoundaryEvidence::after(const Mesh& mesh)
     });
 }
 
-std::vector<std::vector<SharedBoundary>> SharedBoundaryEvidence::by_feature(const std::vector<CleanFeature>& clean) const
+std::vector<std::vector<SharedBoundary>> SharedBoundaryEvidence::by_feature(const std::vector<Outline>& clean) const
 {
     std::vector<std::vector<SharedBoundary>> out(clean.size());
     for (const auto& [key, pair] : m_pairs) {

@@ -56,7 +56,7 @@ public:
     /// Reads the pairs and features bounding output edges (call after snapping).
     void after(const Mesh& mesh);
     /// Per feature (clean index), what was seen of each pair it is in, sorted by the other's id.
-    std::vector<std::vector<SharedBoundary>> by_feature(const std::vector<CleanFeature>& clean) const;
+    std::vector<std::vector<SharedBoundary>> by_feature(const std::vector<Outline>& clean) const;
 
 private:
     struct Pair {

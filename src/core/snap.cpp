@@ -35,6 +35,8 @@ namespace trisnap {
 namespace {
 
 using detail::CleanFeature;
+using detail::Outline;
+using detail::Outlines;
 using detail::Mesh;
 
 class Stopwatch {
@@ -65,7 +67,7 @@ detail::SnapperParams snapper_params(const SnapOptions& o, std::size_t vertices)
 
 struct Context {
     const SnapOptions& options;
-    std::vector<CleanFeature>& clean;
+    const Outlines& clean; ///< the cleaned features' outlines (the mesh's records hold their points)
     Mesh& mesh;
     SnapResult& result;
     detail::WorkMeter& meter;
@@ -123,10 +125,10 @@ bool all_within_tolerance(const std::vector<CleanFeature>& clean, double t)
 
 // Problem 210 (core/shared_boundaries.hpp): decided here when this run sees everything; a tile
 // (a bounded report region) gives its evidence to the stitch instead, which merges its tiles'.
-void give_shared(const std::vector<CleanFeature>& clean, const detail::SharedBoundaryEvidence& shared,
+void give_shared(const Outlines& clean, const detail::SharedBoundaryEvidence& shared,
                  const std::vector<bool>& written, const SnapOptions& options, SnapResult& result)
 {
-    std::vector<std::vector<SharedBoundary>> seen = shared.by_feature(clean);
+    std::vector<std::vector<SharedBoundary>> seen = shared.by_feature(clean.features);
     const bool everything = options.report_region.unbounded() && options.data_extent.unbounded() && options.report_cores.empty();
     std::vector<bool> written_at(result.features.size(), false); // by input position
     for (std::size_t f = 0; f < clean.size(); ++f) {
@@ -146,10 +148,10 @@ void give_shared(const std::vector<CleanFeature>& clean, const detail::SharedBou
 
 /// The output table (104 bytes a feature: 26 MB of Andorra x43, beside the snapper when it was
 /// made first), made once the triangulation is freed: each feature's id and whether it has z.
-void make_outputs(SnapResult& result, const std::vector<CleanFeature>& clean, const std::vector<bool>& has_z)
+void make_outputs(SnapResult& result, const Outlines& clean, const std::vector<bool>& has_z)
 {
     result.features.resize(clean.size());
-    for (const CleanFeature& cf : clean) {
+    for (const Outline& cf : clean.features) {
         result.features[cf.index].id = cf.id;
         result.features[cf.index].geometry.has_z = has_z[cf.index];
     }
@@ -194,7 +196,7 @@ void extract_block(Context& c, const Boundaries& boundaries, const std::vector<d
                    const detail::LineEdges& lines, std::size_t lo, std::size_t hi)
 {
     for (std::size_t f = lo; f < hi; ++f) {
-        const CleanFeature& cf = c.clean[f];
+        const Outline& cf = c.clean[f];
         FeatureOutput& out = c.result.features[cf.index];
         out.id = cf.id;
         if (cf.rejected) continue;
@@ -203,11 +205,7 @@ void extract_block(Context& c, const Boundaries& boundaries, const std::vector<d
         if (cf.polygonal) {
             out.geometry = detail::assemble_boundary(c.mesh, boundaries.of(f), eo);
         } else {
-            std::vector<Coord> starts;
-            for (const auto& l : cf.lines) {
-                starts.push_back(l.front());
-            }
-            out.geometry = detail::extract_lines(c.mesh, lines.of(f), starts, eo);
+            out.geometry = detail::extract_lines(c.mesh, lines.of(f), c.clean.starts(f), eo);
         }
         out.geometry.has_z = has_z;
         out.max_displacement = std::max(feature_displacement(c, f), deviation[f]);
@@ -221,13 +219,13 @@ void extract_block(Context& c, const Boundaries& boundaries, const std::vector<d
 
 namespace detail {
 
-bool outcome_problems(const CleanFeature& cf, const Geometry& g, double moved, const SnapOptions& options,
+bool outcome_problems(const Outline& cf, const Geometry& g, double moved, const SnapOptions& options,
                       std::vector<Problem>& problems)
 {
     auto add = [&](ProblemCode code, std::string msg, const Coord& at) {
         problems.push_back(Problem{cf.id, code, std::move(msg), at.x, at.y});
     };
-    const Coord at = cf.polygonal ? cf.rings.front().points.front() : cf.lines.front().front();
+    const Coord at{cf.x, cf.y};
     if (g.empty()) {
         add(cf.polygonal ? ProblemCode::collapsed_polygon : ProblemCode::collapsed_line,
             cf.polygonal ? "polygon thinner than the tolerance vanished" : "line shorter than the tolerance vanished", at);
@@ -235,7 +233,7 @@ bool outcome_problems(const CleanFeature& cf, const Geometry& g, double moved, c
     }
     std::size_t parts = cf.polygonal ? g.polygons.size() : g.lines.size(), holes = 0;
     for (const Polygon& p : g.polygons) holes += p.rings.size() - 1;
-    const std::size_t in_parts = cf.polygonal ? cf.shells : cf.lines.size();
+    const std::size_t in_parts = cf.parts;
     if (parts < in_parts) add(ProblemCode::part_removed, std::to_string(in_parts - parts) + " of " + std::to_string(in_parts) + " parts vanished", at);
     if (holes < cf.holes) add(ProblemCode::hole_removed, std::to_string(cf.holes - holes) + " of " + std::to_string(cf.holes) + " holes closed", at);
     if (parts > in_parts || holes > cf.holes)
@@ -272,8 +270,9 @@ SnapResult snap_features(const std::vector<Feature>& features, const SnapOptions
     const detail::SnapperParams params = snapper_params(options, st.input_vertices);
     detail::WorkMeter meter(options.progress, st.input_vertices);
     if (all_within_tolerance(clean, options.tolerance)) {
-        make_outputs(result, clean, has_z);
-        for (const CleanFeature& cf : clean) {
+        const Outlines outlines = detail::make_outlines(clean);
+        make_outputs(result, outlines, has_z);
+        for (const Outline& cf : outlines.features) {
             if (!cf.rejected && detail::outcome_problems(cf, Geometry{}, 0.0, options, result.problems)) ++st.collapsed_features;
         }
         sort_problems(result.problems);
@@ -281,15 +280,16 @@ SnapResult snap_features(const std::vector<Feature>& features, const SnapOptions
         meter.finish();
         return result;
     }
-    // From here on `clean` holds outlines: the mesh's records hold the points (Mesh::outline_input).
-    Mesh mesh(clean, std::max({params.vertex_threshold, params.edge_threshold, params.sliver_threshold}), &meter,
-              Mesh::outline_input);
+    // From here on only the features' outlines are kept: the mesh's records hold their points.
+    Outlines outlines;
+    Mesh mesh(std::move(clean), std::max({params.vertex_threshold, params.edge_threshold, params.sliver_threshold}),
+              &meter, outlines);
     st.triangulation_vertices = mesh.tri().number_of_vertices() - Mesh::frame_vertices;
     st.intersections = mesh.intersections();
-    const std::vector<bool> crossing = detail::self_intersecting(mesh, clean.size(), options.report_region);
-    for (std::size_t f = 0; f < clean.size(); ++f)
-        if (crossing[f]) result.problems.push_back(Problem{clean[f].id, ProblemCode::self_intersection,
-            "rings cross or overlap; repaired with the odd-even rule", clean[f].rings[0].points[0].x, clean[f].rings[0].points[0].y});
+    const std::vector<bool> crossing = detail::self_intersecting(mesh, outlines.size(), options.report_region);
+    for (std::size_t f = 0; f < outlines.size(); ++f)
+        if (crossing[f]) result.problems.push_back(Problem{outlines[f].id, ProblemCode::self_intersection,
+            "rings cross or overlap; repaired with the odd-even rule", outlines[f].x, outlines[f].y});
     detail::SharedBoundaryEvidence shared(options.report_region, options.report_cores, options.data_extent);
     shared.before(mesh);
     st.seconds_triangulate = clock.lap();
@@ -302,7 +302,7 @@ SnapResult snap_features(const std::vector<Feature>& features, const SnapOptions
     st.fixpoint_misses = outcome.fixpoint_misses;
     st.seconds_snap = clock.lap();
     meter.begin(detail::WorkMeter::Step::labelling);
-    detail::FaceLabels labels = detail::label_faces(mesh, clean.size());
+    detail::FaceLabels labels = detail::label_faces(mesh, outlines.size());
     st.seconds_label = clock.lap();
     meter.begin(detail::WorkMeter::Step::extraction);
     // Rounding to the grid keeps the output valid only at the fix-point, where every vertex is
@@ -311,34 +311,34 @@ SnapResult snap_features(const std::vector<Feature>& features, const SnapOptions
     // then crossed it: an invalid ring, found by fuzz_snap (t = 1.5e65, grid t/4, a cap of 18
     // operations). Such a run is written unrounded, and 205/207 say so.
     const bool round = outcome.converged && outcome.unresolved.empty();
-    Context ctx{options, clean, mesh, result, meter, round ? options.grid : 0.0};
+    Context ctx{options, outlines, mesh, result, meter, round ? options.grid : 0.0};
     // The outputs are made after the triangulation is freed, in the memory it held: first what
     // reads the owner table, then the polygons' boundaries out of the faces (the labels' face
     // lists freed as they go), then the triangulation itself. Andorra x43 untiled: the heap in
     // use peaked at the end of the extraction, CGAL's 230 MB beside the outputs' 58 MB.
-    const std::vector<double> deviation = detail::edge_deviation(mesh, clean.size(), options.report_region);
-    const detail::LineEdges lines = detail::collect_line_edges(mesh, clean.size());
+    const std::vector<double> deviation = detail::edge_deviation(mesh, outlines.size(), options.report_region);
+    const detail::LineEdges lines = detail::collect_line_edges(mesh, outlines.size());
     const detail::CollapsedEdges collapsed = detail::collapsed_edges(mesh, options.report_region);
     std::vector<Problem> unresolved;
-    detail::report_unresolved(mesh, outcome, clean, options.report_region, options.grid, unresolved);
+    detail::report_unresolved(mesh, outcome, outlines.features, options.report_region, options.grid, unresolved);
     shared.after(mesh);
     st.output_vertices = mesh.tri().number_of_vertices() - Mesh::frame_vertices;
     mesh.release_owners();
     Boundaries boundaries = take_boundaries(ctx, labels);
     mesh.release_triangulation();
-    make_outputs(result, clean, has_z);
-    for (std::size_t lo = 0; lo < clean.size(); lo += detail::FaceLabels::k_block) {
-        extract_block(ctx, boundaries, deviation, lines, lo, std::min(clean.size(), lo + detail::FaceLabels::k_block));
+    make_outputs(result, outlines, has_z);
+    for (std::size_t lo = 0; lo < outlines.size(); lo += detail::FaceLabels::k_block) {
+        extract_block(ctx, boundaries, deviation, lines, lo, std::min(outlines.size(), lo + detail::FaceLabels::k_block));
         std::vector<detail::IdEdge>().swap(boundaries.blocks[lo / detail::FaceLabels::k_block]);
     }
-    std::vector<bool> written(clean.size());
-    for (std::size_t f = 0; f < clean.size(); ++f) {
-        written[f] = !result.features[clean[f].index].geometry.empty();
+    std::vector<bool> written(outlines.size());
+    for (std::size_t f = 0; f < outlines.size(); ++f) {
+        written[f] = !result.features[outlines[f].index].geometry.empty();
     }
-    detail::report_collapsed_edges(collapsed, clean, written, result.problems);
+    detail::report_collapsed_edges(collapsed, outlines.features, written, result.problems);
     result.problems.insert(result.problems.end(), std::make_move_iterator(unresolved.begin()),
                            std::make_move_iterator(unresolved.end()));
-    give_shared(clean, shared, written, options, result);
+    give_shared(outlines, shared, written, options, result);
     st.seconds_extract = clock.lap();
     sort_problems(result.problems);
     meter.finish();

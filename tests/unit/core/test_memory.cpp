@@ -165,9 +165,10 @@ TEST(EngineMemory, OutputRingsHoldNoSpareCapacity)
     EXPECT_EQ(rings, in.size());
 }
 
-// Mesh::outline_input cuts the cleaned features to their outlines once the vertex records hold
-// their points: every input point is then read back exactly from the records, feature by
-// feature, rings then lines, and the mesh is the one a build that keeps the copy makes.
+// Mesh's outlining constructor frees the cleaned features once the vertex records hold their
+// points and keeps their outlines: every input point is then read back exactly from the
+// records, feature by feature, rings then lines, every outline field is the feature's, and the
+// mesh is the one a build that keeps the copy makes.
 TEST(EngineMemory, OutlinedInputIsInTheRecords)
 {
     const double t = 0.05;
@@ -187,32 +188,33 @@ TEST(EngineMemory, OutlinedInputIsInTheRecords)
     const std::vector<detail::CleanFeature> full = detail::clean_input(in, t, problems);
     std::vector<detail::CleanFeature> cut = full;
     const detail::Mesh kept(full, t);
-    const detail::Mesh outlined(cut, t, nullptr, detail::Mesh::outline_input);
+    detail::Outlines outlines;
+    const detail::Mesh outlined(std::move(cut), t, nullptr, outlines);
+    EXPECT_EQ(cut.capacity(), 0u) << "the cleaned copy is freed";
 
-    ASSERT_EQ(cut.size(), full.size());
+    ASSERT_EQ(outlines.size(), full.size());
     std::size_t points = 0, lines = 0;
     for (std::size_t f = 0; f < full.size(); ++f) {
         const detail::CleanFeature& a = full[f];
-        const detail::CleanFeature& b = cut[f];
-        ASSERT_EQ(b.rings.size(), a.rings.size());
-        ASSERT_EQ(b.lines.size(), a.lines.size());
+        const detail::Outline& b = outlines[f];
         EXPECT_EQ(b.index, a.index);
         EXPECT_EQ(b.id, a.id);
         EXPECT_EQ(b.polygonal, a.polygonal);
         EXPECT_EQ(b.rejected, a.rejected);
-        EXPECT_EQ(b.shells, a.shells);
+        EXPECT_EQ(b.paths, a.rings.size() + a.lines.size());
+        EXPECT_EQ(b.parts, a.polygonal ? a.shells : a.lines.size());
         EXPECT_EQ(b.holes, a.holes);
+        const Coord first = a.polygonal ? a.rings.front().points.front() : a.lines.front().front();
+        EXPECT_EQ(b.x, first.x) << "feature " << f;
+        EXPECT_EQ(b.y, first.y) << "feature " << f;
+        const std::vector<Coord> starts = outlines.starts(f);
+        ASSERT_EQ(starts.size(), a.lines.size()) << "feature " << f;
         std::vector<Coord> expected;
-        for (std::size_t r = 0; r < a.rings.size(); ++r) {
-            ASSERT_EQ(b.rings[r].points.size(), 1u) << "feature " << f << " ring " << r << " is not cut";
-            EXPECT_EQ(b.rings[r].points.front(), a.rings[r].points.front());
-            EXPECT_EQ(b.rings[r].hole, a.rings[r].hole);
-            EXPECT_EQ(b.rings[r].polygon, a.rings[r].polygon);
-            expected.insert(expected.end(), a.rings[r].points.begin(), a.rings[r].points.end());
+        for (const detail::CleanRing& r : a.rings) {
+            expected.insert(expected.end(), r.points.begin(), r.points.end());
         }
         for (std::size_t l = 0; l < a.lines.size(); ++l, ++lines) {
-            ASSERT_EQ(b.lines[l].size(), 1u) << "feature " << f << " line " << l << " is not cut";
-            EXPECT_EQ(b.lines[l].front(), a.lines[l].front());
+            EXPECT_EQ(starts[l], a.lines[l].front()) << "feature " << f << " line " << l;
             expected.insert(expected.end(), a.lines[l].begin(), a.lines[l].end());
         }
         const auto ids = outlined.input_vertices(f);
@@ -224,7 +226,9 @@ TEST(EngineMemory, OutlinedInputIsInTheRecords)
         }
     }
     EXPECT_EQ(lines, 2u);
-    EXPECT_EQ(cut.back().rings.size(), 3u) << "the multipolygon keeps its shell, hole and part";
+    EXPECT_EQ(outlines.features.back().paths, 3u) << "the multipolygon keeps its shell, hole and part";
+    EXPECT_EQ(outlines.features.back().parts, 2u);
+    EXPECT_EQ(outlines.features.back().holes, 1u);
     EXPECT_GT(points, 500u);
     // The same triangulation: the same vertices (crossings included) and constrained edges.
     ASSERT_EQ(outlined.vertex_slots(), kept.vertex_slots());
@@ -361,7 +365,8 @@ TEST(EngineMemory, OutputsAfterTheTriangulationIsFreedAreTheLiveMeshs)
     in.push_back(dense_line(2001, 60, 0.1, 0.0, 9));
     std::vector<Problem> problems;
     std::vector<detail::CleanFeature> clean = detail::clean_input(in, t, problems);
-    detail::Mesh mesh(clean, 2 * t, nullptr, detail::Mesh::outline_input);
+    detail::Outlines outlines;
+    detail::Mesh mesh(std::move(clean), 2 * t, nullptr, outlines);
     detail::SnapperParams params;
     params.vertex_threshold = t;
     params.edge_threshold = t / 2;
@@ -371,19 +376,15 @@ TEST(EngineMemory, OutputsAfterTheTriangulationIsFreedAreTheLiveMeshs)
     ASSERT_GT(out.merges, 0u);
     ASSERT_GT(out.splits, 0u);
     mesh.release_search_scratch();
-    detail::FaceLabels labels = detail::label_faces(mesh, clean.size());
+    detail::FaceLabels labels = detail::label_faces(mesh, outlines.size());
     const detail::ExtractOptions eo{0.0, false};
-    std::vector<std::string> live(clean.size());
-    std::vector<std::vector<detail::IdEdge>> boundary(clean.size());
-    const detail::LineEdges lines = detail::collect_line_edges(mesh, clean.size());
-    auto starts = [&](std::size_t f) {
-        std::vector<Coord> s;
-        for (const auto& l : clean[f].lines) s.push_back(l.front());
-        return s;
-    };
+    std::vector<std::string> live(outlines.size());
+    std::vector<std::vector<detail::IdEdge>> boundary(outlines.size());
+    const detail::LineEdges lines = detail::collect_line_edges(mesh, outlines.size());
+    auto starts = [&](std::size_t f) { return outlines.starts(f); };
     std::size_t polygons = 0, line_features = 0;
-    for (std::size_t f = 0; f < clean.size(); ++f) {
-        if (clean[f].polygonal) {
+    for (std::size_t f = 0; f < outlines.size(); ++f) {
+        if (outlines[f].polygonal) {
             detail::append_boundary_edges(mesh, labels.faces_of(f), boundary[f]);
             live[f] = to_wkt(detail::assemble_boundary(mesh, boundary[f], eo));
             polygons += live[f] != "POLYGON EMPTY" ? 1 : 0;
@@ -399,8 +400,8 @@ TEST(EngineMemory, OutputsAfterTheTriangulationIsFreedAreTheLiveMeshs)
     mesh.release_triangulation();
     EXPECT_EQ(mesh.tri().number_of_vertices(), 0u);
     EXPECT_EQ(mesh.tri().number_of_faces(), 0u);
-    for (std::size_t f = 0; f < clean.size(); ++f) {
-        const std::string after = clean[f].polygonal ? to_wkt(detail::assemble_boundary(mesh, boundary[f], eo))
+    for (std::size_t f = 0; f < outlines.size(); ++f) {
+        const std::string after = outlines[f].polygonal ? to_wkt(detail::assemble_boundary(mesh, boundary[f], eo))
                                                      : to_wkt(detail::extract_lines(mesh, lines.of(f), starts(f), eo));
         EXPECT_EQ(after, live[f]) << "feature " << f;
     }

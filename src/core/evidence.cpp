@@ -48,8 +48,12 @@ std::vector<bool> self_intersecting(const Mesh& mesh, std::size_t features, cons
     mesh.for_each_edge_with_owners([&](std::uint32_t u, std::uint32_t v, std::span<const OwnerRef> refs) {
         for (const OwnerRef& ref : refs) {
             const Owner& o = mesh.owner_at(ref.owner);
+            if (o.line) {
+                continue;
+            }
+            const std::uint32_t from = mesh.owner_from(o), to = mesh.owner_to(o);
             for (const std::uint32_t x : {u, v}) {
-                if (!o.line && x != o.from && x != o.to) {
+                if (x != from && x != to) {
                     inside.emplace_back(x, o.feature, ref.owner);
                 }
             }
@@ -76,14 +80,15 @@ std::vector<double> edge_deviation(const Mesh& mesh, std::size_t features, const
         const Owner& o = mesh.owner_at(ref.owner);
         // An end of the input edge, still an input point, is exactly that end: distance 0, which
         // cannot raise the maximum. Most pieces are whole input edges: nearly all stop here.
-        const auto at_own_end = [&](std::uint32_t x) { return (x == o.from || x == o.to) && mesh.is_input_point(x); };
+        const std::uint32_t from = mesh.owner_from(o), to = mesh.owner_to(o);
+        const auto at_own_end = [&](std::uint32_t x) { return (x == from || x == to) && mesh.is_input_point(x); };
         if (at_own_end(u) && at_own_end(v)) {
             return;
         }
         // The input edge itself: its ends' records keep the input points (an edit removes a
         // vertex and inserts another; it never moves one).
-        const VertexRecord& a = mesh.vertex(o.from);
-        const VertexRecord& b = mesh.vertex(o.to);
+        const VertexRecord& a = mesh.vertex(from);
+        const VertexRecord& b = mesh.vertex(to);
         for (const std::uint32_t x : {u, v}) {
             if (at_own_end(x)) {
                 assert(distance_point_segment(mesh.vertex(x).x, mesh.vertex(x).y, a.x, a.y, b.x, b.y) == 0.0);

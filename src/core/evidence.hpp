@@ -21,7 +21,7 @@ std::vector<bool> self_intersecting(const Mesh& mesh, std::size_t features, cons
 
 /// Per feature: the largest distance from a vertex now on one of its input edges to that input
 /// edge (a cascade of splits can bend an edge further than any single vertex moved). The input
-/// edge is read from its owner's end records (`from`, `to`), which never move.
+/// edge is read from its ends' records (Mesh::owner_from, owner_to), which never move.
 std::vector<double> edge_deviation(const Mesh& mesh, std::size_t features, const Region& region);
 
 /// Each polygon's input edge pieces that have the same membership on both sides (owned an even

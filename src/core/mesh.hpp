@@ -21,17 +21,19 @@
 
 namespace trisnap::detail {
 
-/// Who an input edge belongs to: `from` and `to` are the vertex ids of its ends when the
-/// triangulation was built (input points, whose records keep them; follow merges with
-/// Mesh::current()). One per input edge: 12 bytes (the flag in the feature's top bit: the build
-/// refuses 2^31 features or input points and more, a length_error before anything is made).
+/// Who an input edge belongs to, and where: `at` is the place of its first end in the mesh's
+/// input ids, its second end the next place (rings are kept closed there: Mesh::input_vertices).
+/// Mesh::owner_from() and owner_to() give the ends' vertex ids when the triangulation was built
+/// (input points, whose records keep them; follow merges with Mesh::current()). One per input
+/// edge: 8 bytes (the flag in the feature's top bit: the build refuses 2^31 features or input
+/// points and more, a length_error before anything is made, so places fit 32 bits). The ends'
+/// ids were kept in it until 2026-12-03: 12 bytes, 7.7 MB more of Andorra x43's untiled peak.
 struct Owner {
     std::uint32_t feature : 31 = 0;
     std::uint32_t line : 1 = 0;
-    std::uint32_t from = 0;
-    std::uint32_t to = 0;
+    std::uint32_t at = 0;
 };
-static_assert(sizeof(Owner) <= 12, "Owner is one per input edge: keep it small");
+static_assert(sizeof(Owner) <= 8, "Owner is one per input edge: keep it small");
 
 /// 32 bytes: one per triangulation vertex, the engine's largest table after CGAL's own. The
 /// rare list of owners a vertex was split into lives beside it (Mesh::snapped_into), and so do
@@ -105,6 +107,9 @@ public:
     }
     std::uint32_t id(cdt::Vertex_handle h) const { return h->info().id; }
     const Owner& owner_at(std::uint32_t index) const { return m_owners[index]; }
+    /// The vertex ids of an input edge's ends when the triangulation was built.
+    std::uint32_t owner_from(const Owner& o) const { return m_input_ids[o.at]; }
+    std::uint32_t owner_to(const Owner& o) const { return m_input_ids[o.at + 1]; }
     std::size_t intersections() const { return m_intersections; }
     /// Faces the searches have walked so far (a measure of the snapper's work).
     std::size_t faces_walked() const { return m_faces_walked; }
@@ -143,7 +148,9 @@ public:
     /// where every face and vertex mark is cleared (faces keep a stamp in 28 bits).
     std::uint32_t stamps_used() const { return m_stamp; }
     void set_stamps_used(std::uint32_t n) { m_stamp = std::min(n, cdt::k_stamp_limit - 1); }
-    /// Vertex id of each input point, per feature, rings first then lines, in input order.
+    /// Vertex id of each input point, per feature, rings first then lines, in input order; each
+    /// ring closed (its first point's id again after its last), so an input edge's ends are
+    /// always two places one after the other (Owner::at).
     std::span<const std::uint32_t> input_vertices(std::size_t feature) const
     {
         return {m_input_ids.data() + m_input_first[feature], m_input_first[feature + 1] - m_input_first[feature]};
@@ -267,6 +274,8 @@ private:
                                              Outlines& outlines, std::vector<CleanFeature>* release);
     void insert_constraints(const std::vector<Outline>& features, const std::vector<std::uint32_t>& path_sizes,
                             WorkMeter* meter);
+    /// Gives each ring's closing place in the input ids its first point's id.
+    void close_rings(const std::vector<Outline>& features, const std::vector<std::uint32_t>& path_sizes);
     void build(const std::vector<CleanFeature>& features, double reach, WorkMeter* meter, Outlines& outlines,
                std::vector<CleanFeature>* release);
     void register_created_vertices(std::size_t first_created);
@@ -345,7 +354,8 @@ private:
     std::vector<Owner> m_owners;
     EdgeOwners m_edge_owners;
     /// input_vertices() of every feature, one after another (a vector per feature held ~7 MB more
-    /// on Andorra x43); feature f's start at m_input_first[f].
+    /// on Andorra x43); feature f's start at m_input_first[f]. At most 2^31 points and a third as
+    /// many closing places: places fit 32 bits.
     std::vector<std::uint32_t> m_input_ids;
     std::vector<std::size_t> m_input_first;
     // The vertices the current search has seen, with their squared distances, in the order

@@ -9,6 +9,7 @@
 #include <boost/property_map/property_map.hpp>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -20,7 +21,7 @@ namespace {
 
 struct InputPoint {
     double x, y, z;
-    std::size_t at; ///< its place in Mesh::m_input_ids (features in order, rings then lines)
+    std::size_t at; ///< its place in Mesh::m_input_ids (features in order, rings then lines, rings closed)
 };
 
 bool xy_less(const InputPoint& a, const InputPoint& b)
@@ -48,19 +49,21 @@ std::vector<InputPoint> gather_points(const std::vector<CleanFeature>& features,
     first.assign(1, 0);
     first.reserve(features.size() + 1);
     path_sizes.clear();
+    std::size_t place = 0; // in input_ids: a ring's closing place is filled in by insert_points
     for (const CleanFeature& cf : features) {
-        auto add = [&](const Coord& c) { pts.push_back({c.x, c.y, c.z, pts.size()}); };
+        auto add = [&](const Coord& c) { pts.push_back({c.x, c.y, c.z, place++}); };
         for (const CleanRing& r : cf.rings) {
             std::for_each(r.points.begin(), r.points.end(), add);
+            ++place;
             path_sizes.push_back(static_cast<std::uint32_t>(r.points.size()));
         }
         for (const auto& l : cf.lines) {
             std::for_each(l.begin(), l.end(), add);
             path_sizes.push_back(static_cast<std::uint32_t>(l.size()));
         }
-        first.push_back(pts.size());
+        first.push_back(place);
     }
-    input_ids.assign(pts.size(), cdt::k_no_id);
+    input_ids.assign(place, cdt::k_no_id);
     std::sort(pts.begin(), pts.end(), xy_less);
     return pts;
 }
@@ -249,6 +252,7 @@ std::vector<std::uint32_t> Mesh::insert_points(const std::vector<CleanFeature>& 
         i = j;
     }
     m_input_points = id;
+    close_rings(outlines.features, path_sizes);
     for (const auto& [p, corner] : frame_points(pts, reach, id)) {
         VertexRecord& r = m_vertices[corner];
         r.x = p.x();
@@ -291,6 +295,23 @@ std::vector<std::uint32_t> Mesh::insert_points(const std::vector<CleanFeature>& 
     return path_sizes;
 }
 
+void Mesh::close_rings(const std::vector<Outline>& features, const std::vector<std::uint32_t>& path_sizes)
+{
+    std::size_t p = 0;
+    for (std::size_t f = 0; f < features.size(); ++f) {
+        std::size_t base = m_input_first[f];
+        for (std::uint32_t k = 0; k < features[f].paths; ++k, ++p) {
+            const std::size_t n = path_sizes[p];
+            if (features[f].polygonal) { // a polygon's paths are rings, a line feature's lines
+                m_input_ids[base + n] = m_input_ids[base];
+                ++base;
+            }
+            base += n;
+        }
+        assert(base == m_input_first[f + 1]);
+    }
+}
+
 // Features are inserted in (id, index) order so crossings are found in an order that does not
 // depend on how the caller ordered its features.
 void Mesh::insert_constraints(const std::vector<Outline>& features, const std::vector<std::uint32_t>& path_sizes,
@@ -302,7 +323,10 @@ void Mesh::insert_constraints(const std::vector<Outline>& features, const std::v
         first_path[f + 1] = first_path[f] + features[f].paths;
     }
     if (meter) meter->begin(WorkMeter::Step::constraints);
-    const std::size_t total_edges = m_input_ids.size(); // at most one per input point
+    std::size_t total_edges = 0; // a ring has as many edges as points, a line one fewer
+    for (std::size_t f = 0; f < features.size(); ++f) {
+        for (std::size_t p = first_path[f]; p < first_path[f + 1]; ++p) total_edges += path_sizes[p] - (features[f].polygonal ? 0 : 1);
+    }
     std::size_t edges_done = 0;
     m_owners.reserve(total_edges); // one per input edge, added here only
     m_edge_owners.reserve(total_edges, with_room(total_edges)); // crossings and splits add entries
@@ -312,19 +336,17 @@ void Mesh::insert_constraints(const std::vector<Outline>& features, const std::v
         return features[a].id != features[b].id ? features[a].id < features[b].id : a < b;
     });
     for (std::uint32_t f : order) {
-        const std::span<const std::uint32_t> ids = input_vertices(f);
-        std::size_t base = 0;
+        std::size_t base = m_input_first[f];
         auto add_path = [&](std::size_t n, bool closed, bool line) {
-            const std::size_t edges = closed ? n : n - 1;
+            const std::size_t edges = closed ? n : n - 1; // a ring's last edge ends at its closing place
             for (std::size_t i = 0; i < edges; ++i) {
-                const std::uint32_t from = ids[base + i];
-                const std::uint32_t to = ids[base + (i + 1) % n];
-                m_owners.push_back(Owner{f, line, from, to});
+                const Owner o{f, line, static_cast<std::uint32_t>(base + i)};
+                m_owners.push_back(o);
                 const OwnerRef ref{static_cast<std::uint32_t>(m_owners.size() - 1), true};
-                insert_segment(m_vertices[from].handle, m_vertices[to].handle, std::span(&ref, 1));
+                insert_segment(m_vertices[owner_from(o)].handle, m_vertices[owner_to(o)].handle, std::span(&ref, 1));
                 if (meter && (++edges_done & 255) == 0) meter->advance(edges_done, total_edges);
             }
-            base += n;
+            base += closed ? n + 1 : n;
         };
         const Outline& o = features[f];
         const std::uint32_t* sizes = path_sizes.data() + first_path[f];
@@ -423,8 +445,8 @@ double Mesh::interpolated_z(cdt::Vertex_handle h)
             continue;
         }
         const OwnerRef& ref = refs[k];
-        const std::uint32_t a = current(m_owners[ref.owner].from);
-        const std::uint32_t b = current(m_owners[ref.owner].to);
+        const std::uint32_t a = current(owner_from(m_owners[ref.owner]));
+        const std::uint32_t b = current(owner_to(m_owners[ref.owner]));
         const VertexRecord& ra = m_vertices[a];
         const VertexRecord& rb = m_vertices[b];
         const double la = std::hypot(x - ra.x, y - ra.y);

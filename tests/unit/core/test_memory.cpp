@@ -18,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <numeric>
 #include <cmath>
 #include <set>
 #include <string>
@@ -167,8 +168,9 @@ TEST(EngineMemory, OutputRingsHoldNoSpareCapacity)
 
 // Mesh's outlining constructor frees the cleaned features once the vertex records hold their
 // points and keeps their outlines: every input point is then read back exactly from the
-// records, feature by feature, rings then lines, every outline field is the feature's, and the
-// mesh is the one a build that keeps the copy makes.
+// records, feature by feature, rings (closed) then lines, every outline field is the feature's,
+// every input edge's owner names its two ends, and the mesh is the one a build that keeps the
+// copy makes.
 TEST(EngineMemory, OutlinedInputIsInTheRecords)
 {
     const double t = 0.05;
@@ -212,6 +214,7 @@ TEST(EngineMemory, OutlinedInputIsInTheRecords)
         std::vector<Coord> expected;
         for (const detail::CleanRing& r : a.rings) {
             expected.insert(expected.end(), r.points.begin(), r.points.end());
+            expected.push_back(r.points.front()); // rings are closed in the input ids (Owner::at)
         }
         for (std::size_t l = 0; l < a.lines.size(); ++l, ++lines) {
             EXPECT_EQ(starts[l], a.lines[l].front()) << "feature " << f << " line " << l;
@@ -226,6 +229,31 @@ TEST(EngineMemory, OutlinedInputIsInTheRecords)
         }
     }
     EXPECT_EQ(lines, 2u);
+    // The owners, in the order the build inserts features (by id), each path's edges in order.
+    std::vector<std::size_t> by_id(full.size());
+    std::iota(by_id.begin(), by_id.end(), 0);
+    std::stable_sort(by_id.begin(), by_id.end(), [&](std::size_t a, std::size_t b) { return full[a].id < full[b].id; });
+    std::uint32_t owner = 0;
+    for (const std::size_t f : by_id) {
+        const auto ids = outlined.input_vertices(f);
+        auto check_path = [&](const std::vector<Coord>& path, bool ring) {
+            const std::size_t edges = ring ? path.size() : path.size() - 1;
+            for (std::size_t i = 0; i < edges; ++i, ++owner) {
+                const detail::Owner& o = outlined.owner_at(owner);
+                ASSERT_EQ(o.feature, f) << "owner " << owner;
+                EXPECT_EQ(o.line != 0, !ring) << "owner " << owner;
+                const Coord& a = path[i];
+                const Coord& b = path[(i + 1) % path.size()];
+                EXPECT_EQ(outlined.vertex(outlined.owner_from(o)).x, a.x) << "owner " << owner;
+                EXPECT_EQ(outlined.vertex(outlined.owner_from(o)).y, a.y) << "owner " << owner;
+                EXPECT_EQ(outlined.vertex(outlined.owner_to(o)).x, b.x) << "owner " << owner;
+                EXPECT_EQ(outlined.vertex(outlined.owner_to(o)).y, b.y) << "owner " << owner;
+            }
+        };
+        ASSERT_FALSE(ids.empty());
+        for (const detail::CleanRing& r : full[f].rings) check_path(r.points, true);
+        for (const std::vector<Coord>& l : full[f].lines) check_path(l, false);
+    }
     EXPECT_EQ(outlines.features.back().paths, 3u) << "the multipolygon keeps its shell, hole and part";
     EXPECT_EQ(outlines.features.back().parts, 2u);
     EXPECT_EQ(outlines.features.back().holes, 1u);

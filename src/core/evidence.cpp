@@ -11,8 +11,8 @@ namespace {
 
 Coord midpoint(const Mesh& mesh, std::uint32_t u, std::uint32_t v)
 {
-    const VertexRecord& a = mesh.vertex(u);
-    const VertexRecord& b = mesh.vertex(v);
+    const Xy a = mesh.xy(u);
+    const Xy b = mesh.xy(v);
     return Coord{0.5 * (a.x + b.x), 0.5 * (a.y + b.y)};
 }
 
@@ -30,7 +30,7 @@ void flag_shared_interior(const Mesh& mesh, const Region& region, Inside& inside
         if (x != std::get<0>(inside[k - 1]) || feature != std::get<1>(inside[k - 1])) {
             continue;
         }
-        if (region.contains(mesh.vertex(x).x, mesh.vertex(x).y)) {
+        if (region.contains(mesh.xy(x).x, mesh.xy(x).y)) {
             flag[feature] = true;
         }
     }
@@ -87,14 +87,14 @@ std::vector<double> edge_deviation(const Mesh& mesh, std::size_t features, const
         }
         // The input edge itself: its ends' records keep the input points (an edit removes a
         // vertex and inserts another; it never moves one).
-        const VertexRecord& a = mesh.vertex(from);
-        const VertexRecord& b = mesh.vertex(to);
+        const Xy a = mesh.xy(from);
+        const Xy b = mesh.xy(to);
         for (const std::uint32_t x : {u, v}) {
             if (at_own_end(x)) {
-                assert(distance_point_segment(mesh.vertex(x).x, mesh.vertex(x).y, a.x, a.y, b.x, b.y) == 0.0);
+                assert(distance_point_segment(mesh.xy(x).x, mesh.xy(x).y, a.x, a.y, b.x, b.y) == 0.0);
                 continue;
             }
-            const VertexRecord& r = mesh.vertex(x);
+            const Xy r = mesh.xy(x);
             if (region.contains(r.x, r.y)) {
                 worst[o.feature] = std::max(worst[o.feature], distance_point_segment(r.x, r.y, a.x, a.y, b.x, b.y));
             }
@@ -171,10 +171,10 @@ void report_unresolved(Mesh& mesh, const SnapperOutcome& outcome, const std::vec
     std::vector<std::pair<std::uint32_t, std::uint32_t>> hits; // feature, vertex
     auto& tri = mesh.tri();
     for (std::uint32_t v : outcome.unresolved) {
-        if (!region.contains(mesh.vertex(v).x, mesh.vertex(v).y)) {
+        if (!region.contains(mesh.xy(v).x, mesh.xy(v).y)) {
             continue;
         }
-        auto vc = tri.incident_vertices(mesh.vertex(v).handle);
+        auto vc = tri.incident_vertices(mesh.handle(v));
         const auto done = vc;
         do {
             if (tri.is_infinite(vc)) {
@@ -191,7 +191,7 @@ void report_unresolved(Mesh& mesh, const SnapperOutcome& outcome, const std::vec
         if (k > 0 && hits[k].first == hits[k - 1].first) {
             continue;
         }
-        const VertexRecord& r = mesh.vertex(hits[k].second);
+        const Xy r = mesh.xy(hits[k].second);
         problems.push_back(Problem{clean[hits[k].first].id, code,
             std::string(outcome.converged ? "a vertex stays closer than the tolerance allows (a split refused because it already "
                                             "snapped into that edge, or a merge blocked by a constraint)"

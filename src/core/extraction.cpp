@@ -6,7 +6,7 @@ namespace trisnap::detail {
 
 Coord output_coord(const Mesh& mesh, std::uint32_t v, const ExtractOptions& o)
 {
-    const VertexRecord& r = mesh.vertex(v);
+    const Xy r = mesh.xy(v);
     return round_to_grid(Coord{r.x, r.y, o.has_z ? mesh.z(v) : std::nan("")}, o.grid);
 }
 

@@ -13,6 +13,8 @@
 #include "core/work_meter.hpp"
 
 #include <algorithm>
+#include <cassert>
+#include <cstdint>
 #include <limits>
 #include <span>
 #include <unordered_set>
@@ -35,21 +37,39 @@ struct Owner {
 };
 static_assert(sizeof(Owner) <= 8, "Owner is one per input edge: keep it small");
 
-/// 32 bytes: one per triangulation vertex, the engine's largest table after CGAL's own. The
-/// rare list of owners a vertex was split into lives beside it (Mesh::snapped_into), and so do
-/// the z values (Mesh::z), which a layer without them does not hold at all. A removed vertex
-/// keeps its record (`alive` false), so an input point's record is that point for good.
-struct VertexRecord {
-    cdt::Vertex_handle handle;
+/// A vertex's coordinates.
+struct Xy {
     double x = 0, y = 0;
+};
+
+/// 16 bytes: one per triangulation vertex, the engine's largest table after CGAL's own. Where
+/// the vertex's point is: while the vertex is in the triangulation, in its CGAL vertex (`at`
+/// holds that vertex's address: even); once it is removed, or the triangulation is freed, in
+/// Mesh::m_kept (`at` holds (place << 1) | 1). The point was kept here beside CGAL's until
+/// 2026-12-03: 32 bytes a vertex, 27 MB of Andorra x43's untiled peak. The rare list of owners
+/// a vertex was split into lives beside it (Mesh::snapped_into), and so do the z values
+/// (Mesh::z), which a layer without them does not hold at all. A removed vertex keeps its slot
+/// (`alive` false) and its point, so an input point's record is that point for good.
+struct VertexSlot {
+    std::uintptr_t at = 0; ///< 0 only in the build, before the vertex is in the triangulation
     /// How many input points were merged into this one (0 for a crossing until the build ends):
     /// the weight of its centroid. At most the run's input points: 31 bits hold it (2^31 points
     /// in one engine run would take ~800 GB), and it converts to a double exactly.
     std::uint32_t weight : 31 = 1;
     std::uint32_t alive : 1 = 1;
-    std::uint32_t snapped = cdt::k_no_id;      ///< its list in Mesh::m_snapped, if it has one
+    std::uint32_t snapped = cdt::k_no_id; ///< its list in Mesh::m_snapped, if it has one
+    bool in_triangulation() const { return at != 0 && (at & 1) == 0; }
 };
-static_assert(sizeof(VertexRecord) <= 32, "VertexRecord is one per vertex: keep it small");
+static_assert(sizeof(VertexSlot) <= 16, "VertexSlot is one per vertex: keep it small");
+
+/// What Mesh::vertex() reads of a vertex, by value.
+struct VertexRecord {
+    cdt::Vertex_handle handle; ///< null once it is out of the triangulation
+    double x = 0, y = 0;
+    std::uint32_t weight = 1;
+    bool alive = true;
+    std::uint32_t snapped = cdt::k_no_id;
+};
 
 /// How many times a polygon feature owns one edge.
 struct FeatureCount {
@@ -88,7 +108,38 @@ public:
 
     cdt::Triangulation& tri() { return m_tri; }
     const cdt::Triangulation& tri() const { return m_tri; }
-    const VertexRecord& vertex(std::uint32_t id) const { return m_vertices[id]; }
+    VertexRecord vertex(std::uint32_t id) const
+    {
+        const VertexSlot& s = m_vertices[id];
+        VertexRecord r;
+        r.handle = handle(id);
+        const Xy p = xy(id);
+        r.x = p.x;
+        r.y = p.y;
+        r.weight = s.weight;
+        r.alive = s.alive;
+        r.snapped = s.snapped;
+        return r;
+    }
+    bool alive(std::uint32_t id) const { return m_vertices[id].alive; }
+    /// Vertex id's coordinates (where it was made: vertices never move).
+    Xy xy(std::uint32_t id) const
+    {
+        const std::uintptr_t at = m_vertices[id].at;
+        assert(at != 0);
+        if ((at & 1) == 0) {
+            const cdt::Point& p = reinterpret_cast<const cdt::Triangulation::Vertex*>(at)->point();
+            return {p.x(), p.y()};
+        }
+        return m_kept[at >> 1];
+    }
+    /// Vertex id's CGAL vertex; null once it is out of the triangulation.
+    cdt::Vertex_handle handle(std::uint32_t id) const
+    {
+        const VertexSlot& s = m_vertices[id];
+        return s.in_triangulation() ? cdt::Vertex_handle(reinterpret_cast<cdt::Triangulation::Vertex*>(s.at))
+                                    : cdt::Vertex_handle();
+    }
     /// The z of a vertex: NaN where it has none (every vertex, when no input point had one).
     double z(std::uint32_t id) const { return m_z.empty() ? std::numeric_limits<double>::quiet_NaN() : m_z[id]; }
     /// Whether the mesh holds z values (some vertex has had one).
@@ -99,10 +150,11 @@ public:
     std::size_t vertex_slots() const { return m_vertices.size(); }
     /// The squared distance of two vertices as the searches compute it (search_point's
     /// distances are these, bit for bit, either way round).
-    double vertex_d2(std::uint32_t a, std::uint32_t b) const
+    double vertex_d2(std::uint32_t a, std::uint32_t b) const { return point_d2(xy(a), xy(b)); }
+    static double point_d2(const Xy& a, const Xy& b)
     {
-        const double ex = m_vertices[b].x - m_vertices[a].x;
-        const double ey = m_vertices[b].y - m_vertices[a].y;
+        const double ex = b.x - a.x;
+        const double ey = b.y - a.y;
         return ex * ex + ey * ey;
     }
     std::uint32_t id(cdt::Vertex_handle h) const { return h->info().id; }
@@ -192,7 +244,7 @@ public:
     /// constraint makes (first_obstacle), so its cost is the faces the segment crosses.
     bool segment_is_free(std::uint32_t a, std::uint32_t b) const
     {
-        return first_obstacle(m_vertices[a].handle, m_vertices[b].handle).kind == Obstacle::Kind::none;
+        return first_obstacle(handle(a), handle(b)).kind == Obstacle::Kind::none;
     }
     /// Owner indices of the edge a-b (empty if it is not constrained).
     void owners_of_edge(std::uint32_t a, std::uint32_t b, std::vector<std::uint32_t>& out) const;
@@ -203,14 +255,12 @@ public:
     /// either vertex was merged away).
     bool is_triangulation_constraint(std::uint32_t a, std::uint32_t b) const
     {
-        const VertexRecord& ra = m_vertices[a];
-        const VertexRecord& rb = m_vertices[b];
-        if (!ra.alive || !rb.alive) {
+        if (!m_vertices[a].alive || !m_vertices[b].alive) {
             return false;
         }
         cdt::Face_handle f;
         int i = 0;
-        return m_tri.is_edge(ra.handle, rb.handle, f, i) && f->is_constrained(i);
+        return m_tri.is_edge(handle(a), handle(b), f, i) && f->is_constrained(i);
     }
     /// Calls f(u, v, OwnerRef) for every owner of every constrained edge (u < v, oriented u->v).
     template <class F>
@@ -321,8 +371,9 @@ private:
     }
     bool is_long(std::uint32_t a, std::uint32_t b) const
     {
-        const double dx = m_vertices[a].x - m_vertices[b].x;
-        const double dy = m_vertices[a].y - m_vertices[b].y;
+        const Xy pa = xy(a), pb = xy(b);
+        const double dx = pa.x - pb.x;
+        const double dy = pa.y - pb.y;
         return dx * dx + dy * dy >= m_long2;
     }
     void count_edge(std::uint32_t a, std::uint32_t b, int delta)
@@ -344,12 +395,17 @@ private:
     std::uint32_t next_stamp();
 
     cdt::Triangulation m_tri;
-    std::vector<VertexRecord> m_vertices;
+    std::vector<VertexSlot> m_vertices;
+    /// The points of the vertices out of the triangulation (VertexSlot::at).
+    std::vector<Xy> m_kept;
+    /// Moves vertex id's point from its CGAL vertex to m_kept: before CGAL removes the vertex.
+    void keep_point(std::uint32_t id);
+    static std::uintptr_t address(cdt::Vertex_handle h) { return reinterpret_cast<std::uintptr_t>(&*h); }
     /// The vertices' z, by id; empty while every z is NaN (a 2D layer: 16 MB fewer on Andorra
     /// x43 untiled, and no interpolation for crossings). Once a z is set, as long as m_vertices.
     std::vector<double> m_z;
     std::uint32_t m_input_points = 0; ///< ids below it are the input's distinct points
-    std::vector<std::vector<std::uint32_t>> m_snapped; ///< VertexRecord::snapped indexes it
+    std::vector<std::vector<std::uint32_t>> m_snapped; ///< VertexSlot::snapped indexes it
     std::vector<std::uint32_t> m_forward;
     std::vector<Owner> m_owners;
     EdgeOwners m_edge_owners;

@@ -240,27 +240,29 @@ std::vector<std::uint32_t> Mesh::insert_points(const std::vector<CleanFeature>& 
     m_vertices.reserve(room);
     m_forward.reserve(room);
     m_vertices.resize(total);
+    // The points go to CGAL in `order`; the slots learn where their vertices are as they go in.
+    std::vector<SortPoint> order(total);
     std::uint32_t id = 0;
     for (std::size_t i = 0; i < pts.size(); ++id) {
         std::size_t j = i;
         while (j < pts.size() && pts[j].x == pts[i].x && pts[j].y == pts[i].y) ++j;
         for (std::size_t k = i; k < j; ++k) m_input_ids[pts[k].at] = id;
-        VertexRecord& r = m_vertices[id];
-        r.x = pts[i].x;
-        r.y = pts[i].y;
+        order[id] = SortPoint{pts[i].x, pts[i].y, id};
         set_z(id, mean_z(pts.begin() + i, pts.begin() + j));
         i = j;
     }
     m_input_points = id;
     close_rings(outlines.features, path_sizes);
     for (const auto& [p, corner] : frame_points(pts, reach, id)) {
-        VertexRecord& r = m_vertices[corner];
-        r.x = p.x();
-        r.y = p.y();
+        order[corner] = SortPoint{p.x(), p.y(), corner};
     }
     std::vector<InputPoint>().swap(pts);
-    std::vector<SortPoint> order(total);
-    for (std::uint32_t v = 0; v < total; ++v) order[v] = SortPoint{m_vertices[v].x, m_vertices[v].y, v};
+    // Every later vertex lies inside the frame, so its corners bound the coordinates' size.
+    double largest = 0;
+    for (const SortPoint& p : order) {
+        largest = std::max({largest, std::abs(p.x), std::abs(p.y)});
+    }
+    m_ulp_margin = 64 * (std::nextafter(largest, std::numeric_limits<double>::infinity()) - largest);
     CGAL::spatial_sort(order.begin(), order.end(), CGAL::Spatial_sort_traits_adapter_2<cdt::Kernel, SortPointMap>());
     // No constraint exists yet: each point goes in as CGAL's constrained insert would put it
     // (locate, the plain triangulation's insertion, then the Delaunay flips around it) without
@@ -279,18 +281,12 @@ std::vector<std::uint32_t> Mesh::insert_points(const std::vector<CleanFeature>& 
         if constexpr (cdt::k_delaunay) {
             flips.around(h);
         }
-        m_vertices[p.id].handle = h;
+        m_vertices[p.id].at = address(h);
         h->info().id = p.id;
         hint = h->face();
         if (meter && (++inserted & 1023) == 0) meter->advance(inserted, order.size());
     }
     std::vector<SortPoint>().swap(order);
-    // Every later vertex lies inside the frame, so its corners bound the coordinates' size.
-    double largest = 0;
-    for (const VertexRecord& r : m_vertices) {
-        largest = std::max({largest, std::abs(r.x), std::abs(r.y)});
-    }
-    m_ulp_margin = 64 * (std::nextafter(largest, std::numeric_limits<double>::infinity()) - largest);
     m_forward.assign(total, cdt::k_no_id);
     return path_sizes;
 }
@@ -343,7 +339,7 @@ void Mesh::insert_constraints(const std::vector<Outline>& features, const std::v
                 const Owner o{f, line, static_cast<std::uint32_t>(base + i)};
                 m_owners.push_back(o);
                 const OwnerRef ref{static_cast<std::uint32_t>(m_owners.size() - 1), true};
-                insert_segment(m_vertices[owner_from(o)].handle, m_vertices[owner_to(o)].handle, std::span(&ref, 1));
+                insert_segment(handle(owner_from(o)), handle(owner_to(o)), std::span(&ref, 1));
                 if (meter && (++edges_done & 255) == 0) meter->advance(edges_done, total_edges);
             }
             base += closed ? n + 1 : n;
@@ -365,23 +361,24 @@ void Mesh::register_created_vertices(std::size_t first_created)
     std::vector<std::uint32_t> created(n - first_created);
     std::iota(created.begin(), created.end(), static_cast<std::uint32_t>(first_created));
     std::sort(created.begin(), created.end(), [&](std::uint32_t a, std::uint32_t b) {
-        return std::tie(m_vertices[a].x, m_vertices[a].y) < std::tie(m_vertices[b].x, m_vertices[b].y);
+        const Xy pa = xy(a), pb = xy(b);
+        return std::tie(pa.x, pa.y) < std::tie(pb.x, pb.y);
     });
     std::vector<std::uint32_t> rename(n);
     std::iota(rename.begin(), rename.end(), 0u);
-    std::vector<VertexRecord> records(created.size());
+    std::vector<VertexSlot> records(created.size());
     for (std::size_t k = 0; k < created.size(); ++k) {
         rename[created[k]] = static_cast<std::uint32_t>(first_created + k);
         records[k] = std::move(m_vertices[created[k]]);
     }
     for (std::size_t k = 0; k < created.size(); ++k) {
         m_vertices[first_created + k] = std::move(records[k]);
-        m_vertices[first_created + k].handle->info().id = static_cast<std::uint32_t>(first_created + k);
+        handle(static_cast<std::uint32_t>(first_created + k))->info().id = static_cast<std::uint32_t>(first_created + k);
     }
     m_edge_owners.rename(rename);
     for (std::size_t id = first_created; id < n; ++id) {
         m_vertices[id].weight = 1;
-        set_z(static_cast<std::uint32_t>(id), interpolated_z(m_vertices[id].handle));
+        set_z(static_cast<std::uint32_t>(id), interpolated_z(handle(static_cast<std::uint32_t>(id))));
     }
     m_intersections += created.size();
     m_created.clear();
@@ -391,11 +388,9 @@ std::uint32_t Mesh::add_record(cdt::Vertex_handle h, double z)
 {
     const auto id = static_cast<std::uint32_t>(m_vertices.size());
     h->info().id = id;
-    VertexRecord r;
-    r.handle = h;
-    r.x = h->point().x();
-    r.y = h->point().y();
-    m_vertices.push_back(std::move(r));
+    VertexSlot r;
+    r.at = address(h);
+    m_vertices.push_back(r);
     m_forward.push_back(cdt::k_no_id);
     if (!m_z.empty()) {
         m_z.push_back(std::numeric_limits<double>::quiet_NaN());
@@ -447,8 +442,8 @@ double Mesh::interpolated_z(cdt::Vertex_handle h)
         const OwnerRef& ref = refs[k];
         const std::uint32_t a = current(owner_from(m_owners[ref.owner]));
         const std::uint32_t b = current(owner_to(m_owners[ref.owner]));
-        const VertexRecord& ra = m_vertices[a];
-        const VertexRecord& rb = m_vertices[b];
+        const Xy ra = xy(a);
+        const Xy rb = xy(b);
         const double la = std::hypot(x - ra.x, y - ra.y);
         const double lb = std::hypot(x - rb.x, y - rb.y);
         const double za = m_z[a];
@@ -535,14 +530,27 @@ void Mesh::release_triangulation()
 {
     release_search_scratch();
     release_owners();
+    // Every vertex's point to m_kept first (one allocation of the size it needs), then CGAL's.
+    std::size_t live = 0;
+    for (const VertexSlot& s : m_vertices) live += s.in_triangulation() ? 1 : 0;
+    m_kept.reserve(m_kept.size() + live);
+    for (std::uint32_t id = 0; id < m_vertices.size(); ++id) {
+        if (m_vertices[id].in_triangulation()) keep_point(id);
+    }
     m_tri.clear(); // CGAL's containers free their blocks
     std::vector<Job>().swap(m_jobs);
     std::vector<Saved>().swap(m_saved);
     std::vector<cdt::Face_handle>().swap(m_walk);
     std::vector<cdt::Face_handle>().swap(m_hub_faces);
-    for (VertexRecord& r : m_vertices) {
-        r.handle = cdt::Vertex_handle{}; // no handle outlives its vertex
-    }
+}
+
+void Mesh::keep_point(std::uint32_t id)
+{
+    VertexSlot& s = m_vertices[id];
+    assert(s.in_triangulation());
+    const Xy p = xy(id);
+    s.at = (static_cast<std::uintptr_t>(m_kept.size()) << 1) | 1;
+    m_kept.push_back(p);
 }
 
 } // namespace trisnap::detail

@@ -43,7 +43,7 @@ void Mesh::collect_constraints(cdt::Vertex_handle h, std::span<const std::uint32
             m_arena.resize(first); // between two old vertices: length zero after the edit
             continue;
         }
-        m_saved.push_back(Saved{m_vertices[n].handle, first, count});
+        m_saved.push_back(Saved{handle(n), first, count});
     }
     remove_incident_constraints_bounded(h);
 }
@@ -53,8 +53,8 @@ cdt::Vertex_handle Mesh::insert_target(double x, double y, const std::uint32_t* 
     if (split == nullptr) {
         return insert_point(cdt::Point(x, y), hint);
     }
-    const cdt::Vertex_handle b = m_vertices[split[0]].handle;
-    const cdt::Vertex_handle c = m_vertices[split[1]].handle;
+    const cdt::Vertex_handle b = handle(split[0]);
+    const cdt::Vertex_handle c = handle(split[1]);
     // The rounded foot lies within an ulp of b-c, not on it: b-c is routed through it explicitly
     // (it already is when the foot fell exactly on the edge and CGAL split it).
     const cdt::Vertex_handle v = insert_point(rounded_projection(cdt::Point(x, y), b->point(), c->point()), b->face());
@@ -66,7 +66,7 @@ cdt::Vertex_handle Mesh::insert_target(double x, double y, const std::uint32_t* 
 
 void Mesh::merge_into(std::uint32_t target, std::span<const std::uint32_t> olds)
 {
-    VertexRecord& t = m_vertices[target];
+    VertexSlot& t = m_vertices[target];
     const double zt = z(target);
     double zsum = std::isnan(zt) ? 0.0 : zt;
     int zn = std::isnan(zt) ? 0 : 1;
@@ -74,7 +74,7 @@ void Mesh::merge_into(std::uint32_t target, std::span<const std::uint32_t> olds)
         if (o == target) {
             continue;
         }
-        VertexRecord& r = m_vertices[o];
+        VertexSlot& r = m_vertices[o];
         if (const double zo = z(o); !std::isnan(zo)) {
             zsum += zo;
             ++zn;
@@ -90,8 +90,7 @@ void Mesh::merge_into(std::uint32_t target, std::span<const std::uint32_t> olds)
             into.insert(into.end(), from.begin(), from.end());
             from.clear();
         }
-        r.alive = false;
-        r.handle = cdt::Vertex_handle();
+        r.alive = false; // its point is in m_kept (replace() kept it before CGAL removed it)
         m_forward[o] = target;
     }
     set_z(target, zn ? zsum / zn : std::nan(""));
@@ -105,7 +104,7 @@ std::uint32_t Mesh::replace(std::span<const std::uint32_t> olds, double x, doubl
     m_new_edges.clear();
     m_ring.clear();
     for (std::uint32_t o : olds) {
-        collect_constraints(m_vertices[o].handle, olds);
+        collect_constraints(handle(o), olds);
     }
     // The constraints go back in by the ids of their other ends, not in the order the stars were
     // walked: a star starts at whatever face CGAL keeps for the vertex, which depends on the
@@ -115,13 +114,15 @@ std::uint32_t Mesh::replace(std::span<const std::uint32_t> olds, double x, doubl
     std::stable_sort(m_saved.begin(), m_saved.end(),
                      [&](const Saved& p, const Saved& q) { return id(p.other) < id(q.other); });
     for (std::uint32_t o : olds) {
-        remove_bounded(m_vertices[o].handle);
+        const cdt::Vertex_handle h = handle(o);
+        keep_point(o);
+        remove_bounded(h);
     }
     // Faces around the old vertices are gone: locate from a surviving neighbour.
     cdt::Face_handle hint;
     for (std::uint32_t n : m_ring) {
         if (std::find(olds.begin(), olds.end(), n) == olds.end() && m_vertices[n].alive) {
-            hint = m_vertices[n].handle->face();
+            hint = handle(n)->face();
             break;
         }
     }
@@ -138,7 +139,7 @@ std::uint32_t Mesh::replace(std::span<const std::uint32_t> olds, double x, doubl
     run_jobs();
     for (std::uint32_t c : m_created) {
         m_vertices[c].weight = 1;
-        set_z(c, interpolated_z(m_vertices[c].handle));
+        set_z(c, interpolated_z(handle(c)));
     }
     m_arena.clear();
     return tid;
@@ -147,9 +148,9 @@ std::uint32_t Mesh::replace(std::span<const std::uint32_t> olds, double x, doubl
 // A vertex moved onto the edge b-c also takes the z the edge has there.
 void Mesh::take_edge_z(std::uint32_t v, std::uint32_t b, std::uint32_t c)
 {
-    const VertexRecord& rb = m_vertices[b];
-    const VertexRecord& rc = m_vertices[c];
-    const VertexRecord& t = m_vertices[v];
+    const Xy rb = xy(b);
+    const Xy rc = xy(c);
+    const Xy t = xy(v);
     const double lb = std::hypot(t.x - rb.x, t.y - rb.y);
     const double lc = std::hypot(t.x - rc.x, t.y - rc.y);
     const double zb = z(b);

@@ -103,7 +103,7 @@ constexpr std::size_t k_max_long_apart = 64;
 // beyond the grid's range, every long edge is looked at (LongEdgeIndex::each says so).
 void Mesh::add_long_edges_near(std::uint32_t v, double r2_edge, std::vector<EdgeHit>& edges) const
 {
-    const VertexRecord& rv = m_vertices[v];
+    const Xy rv = xy(v);
     const std::size_t walked = edges.size();
     const auto consider = [&](std::uint64_t key) {
         const auto a = static_cast<std::uint32_t>(key >> 32);
@@ -111,8 +111,8 @@ void Mesh::add_long_edges_near(std::uint32_t v, double r2_edge, std::vector<Edge
         if (a == v || b == v) {
             return;
         }
-        const VertexRecord& ra = m_vertices[a];
-        const VertexRecord& rb = m_vertices[b];
+        const Xy ra = xy(a);
+        const Xy rb = xy(b);
         const double d2 = squared_distance_point_segment(rv.x, rv.y, ra.x, ra.y, rb.x, rb.y);
         if (d2 > r2_edge) {
             return;
@@ -163,8 +163,8 @@ void Mesh::build_long_index(double r2_edge)
 void Mesh::index_long_edge(std::uint32_t a, std::uint32_t b, int delta)
 {
     const std::uint32_t lo = std::min(a, b), hi = std::max(a, b);
-    const VertexRecord& rl = m_vertices[lo];
-    const VertexRecord& rh = m_vertices[hi];
+    const Xy rl = xy(lo);
+    const Xy rh = xy(hi);
     const std::uint64_t key = edge_key(lo, hi);
     if (delta > 0) {
         if (!m_long_index.insert(rl.x, rl.y, rh.x, rh.y, key)) {
@@ -213,7 +213,7 @@ void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
     }
     m_seen.clear();
     const std::uint32_t stamp = next_stamp();
-    const VertexRecord& rv = m_vertices[v];
+    const Xy rv = xy(v);
     double reach2 = std::max(r2_vertex, r2_edge);
     // The edge radius bounds the shrinking only while an edge long enough for an event exists,
     // until the long edges' grid is built (note_floored_walk): from then on a nearest-only walk
@@ -223,10 +223,11 @@ void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
     const double floor2 = m_long_edges > 0 && r2_edge > 0 && !from_grid ? r2_edge : 0.0;
     const std::size_t faces_before = m_faces_walked;
     double best2 = std::numeric_limits<double>::infinity();
-    const auto seg_dist2 = [&](std::uint32_t a, std::uint32_t b) {
-        const VertexRecord& ra = m_vertices[a];
-        const VertexRecord& rb = m_vertices[b];
-        return squared_distance_point_segment(rv.x, rv.y, ra.x, ra.y, rb.x, rb.y);
+    // The points straight from the CGAL vertices the walk holds (they are the vertices' points).
+    const auto seg_dist2 = [&](cdt::Vertex_handle a, cdt::Vertex_handle b) {
+        const cdt::Point& ra = a->point();
+        const cdt::Point& rb = b->point();
+        return squared_distance_point_segment(rv.x, rv.y, ra.x(), ra.y(), rb.x(), rb.y());
     };
     // Records vertex w's squared distance once per search. With `nearest_only` only vertices as
     // near as the nearest so far are kept, and the walk shrinks to the nearest distance d plus a
@@ -245,7 +246,7 @@ void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
             return;
         }
         const std::uint32_t w = h->info().id;
-        const double d2 = vertex_d2(v, w);
+        const double d2 = point_d2(rv, Xy{h->point().x(), h->point().y()}); // vertex_d2(v, w)
         mark_seen(h, d2);
         if (d2 > r2_vertex) {
             return;
@@ -271,22 +272,25 @@ void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
             if (!f->is_constrained(i) || (f->neighbor(i) < f && !m_tri.is_infinite(f->neighbor(i)))) {
                 continue;
             }
-            const std::uint32_t a = f->vertex(cdt::Triangulation::cw(i))->info().id;
-            const std::uint32_t b = f->vertex(cdt::Triangulation::ccw(i))->info().id;
+            const cdt::Vertex_handle ha = f->vertex(cdt::Triangulation::cw(i));
+            const cdt::Vertex_handle hb = f->vertex(cdt::Triangulation::ccw(i));
+            const std::uint32_t a = ha->info().id;
+            const std::uint32_t b = hb->info().id;
             if (a == v || b == v) {
                 continue;
             }
-            const double d2 = seg_dist2(a, b);
+            const double d2 = seg_dist2(ha, hb);
             if (d2 <= r2_edge) {
                 edges.push_back(EdgeHit{d2, std::min(a, b), std::max(a, b)});
             }
         }
     };
-    mark_seen(rv.handle, 0);
+    const cdt::Vertex_handle hv = handle(v);
+    mark_seen(hv, 0);
     if (nearest_only) {
         // v's neighbours first (in a constrained Delaunay triangulation the nearest visible
         // vertex is one of them): the walk starts with its reach already shrunk.
-        auto vc = m_tri.incident_vertices(rv.handle);
+        auto vc = m_tri.incident_vertices(hv);
         const auto done = vc;
         do {
             if (!m_tri.is_infinite(vc)) {
@@ -296,9 +300,9 @@ void Mesh::search_point(std::uint32_t v, double r2_vertex, double r2_edge,
     }
     // An edge with an end in reach meets the disk: the ends' distances (the face was visited
     // first) decide most edges without the distance to the segment.
-    walk_region(m_tri, rv.handle, stamp, m_walk,
+    walk_region(m_tri, hv, stamp, m_walk,
                 [&](cdt::Vertex_handle a, cdt::Vertex_handle b) {
-                    return seen_d2(a) <= reach2 || seen_d2(b) <= reach2 || seg_dist2(a->info().id, b->info().id) <= reach2;
+                    return seen_d2(a) <= reach2 || seen_d2(b) <= reach2 || seg_dist2(a, b) <= reach2;
                 },
                 visit_face);
     if (from_grid) {
@@ -317,21 +321,22 @@ void Mesh::search_segment(std::uint32_t b, std::uint32_t c, double r2,
     }
     m_seen.clear();
     const std::uint32_t stamp = next_stamp();
-    const VertexRecord& rb = m_vertices[b];
-    const VertexRecord& rc = m_vertices[c];
-    mark_seen(rb.handle, 0);
-    mark_seen(rc.handle, 0);
+    const Xy rb = xy(b);
+    const Xy rc = xy(c);
+    const cdt::Vertex_handle hb = handle(b);
+    mark_seen(hb, 0);
+    mark_seen(handle(c), 0);
     // Start from the faces around b: two of them hold the edge, so the walk with the capsule
     // test covers the whole edge.
     walk_region(
-        m_tri, rb.handle, stamp, m_walk,
+        m_tri, hb, stamp, m_walk,
         [&](cdt::Vertex_handle p, cdt::Vertex_handle q) {
             if (seen_d2(p) <= r2 || seen_d2(q) <= r2) { // an end in the capsule (as above)
                 return true;
             }
-            const VertexRecord& rp = m_vertices[p->info().id];
-            const VertexRecord& rq = m_vertices[q->info().id];
-            return squared_segment_distance(rb.x, rb.y, rc.x, rc.y, rp.x, rp.y, rq.x, rq.y) <= r2;
+            const cdt::Point& rp = p->point();
+            const cdt::Point& rq = q->point();
+            return squared_segment_distance(rb.x, rb.y, rc.x, rc.y, rp.x(), rp.y(), rq.x(), rq.y()) <= r2;
         },
         [&](cdt::Face_handle f) {
             ++m_faces_walked;
@@ -341,8 +346,8 @@ void Mesh::search_segment(std::uint32_t b, std::uint32_t c, double r2,
                     continue;
                 }
                 const std::uint32_t w = h->info().id;
-                const VertexRecord& rw = m_vertices[w];
-                const double d2 = squared_distance_point_segment(rw.x, rw.y, rb.x, rb.y, rc.x, rc.y);
+                const cdt::Point& rw = h->point();
+                const double d2 = squared_distance_point_segment(rw.x(), rw.y(), rb.x, rb.y, rc.x, rc.y);
                 mark_seen(h, d2);
                 if (d2 <= r2) {
                     vertices.emplace_back(d2, w);

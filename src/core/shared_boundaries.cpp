@@ -93,8 +93,8 @@ void SharedBoundaryEvidence::before(const Mesh& mesh)
         if (features.size() < 2) {
             return;
         }
-        const VertexRecord& a = mesh.vertex(u);
-        const VertexRecord& b = mesh.vertex(v);
+        const Xy a = mesh.xy(u);
+        const Xy b = mesh.xy(v);
         const Coord p{a.x, a.y};
         const Coord q{b.x, b.y};
         if (std::none_of(boxes.begin(), boxes.end(), [&](const Region& box) {
@@ -128,11 +128,11 @@ void SharedBoundaryEvidence::after(const Mesh& mesh)
         if (refs.size() < 2) {
             return; // bounds one polygon at most
         }
-        const VertexRecord& a = mesh.vertex(u);
-        const VertexRecord& b = mesh.vertex(v);
-        if (!a.alive || !b.alive) {
+        if (!mesh.alive(u) || !mesh.alive(v)) {
             return;
         }
+        const Xy a = mesh.xy(u);
+        const Xy b = mesh.xy(v);
         const double mx = 0.5 * (a.x + b.x);
         const double my = 0.5 * (a.y + b.y);
         if (!m_extent.contains_closed(mx, my) ||

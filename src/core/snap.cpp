@@ -80,8 +80,8 @@ double feature_displacement(Context& c, std::size_t f)
 {
     double worst = 0;
     for (const std::uint32_t id : c.mesh.input_vertices(f)) {
-        const detail::VertexRecord& p = c.mesh.vertex(id);
-        const detail::VertexRecord& r = c.mesh.vertex(c.mesh.current(id));
+        const detail::Xy p = c.mesh.xy(id);
+        const detail::Xy r = c.mesh.xy(c.mesh.current(id));
         if (c.options.report_region.contains(p.x, p.y)) worst = std::max(worst, std::hypot(r.x - p.x, r.y - p.y));
     }
     return worst;

@@ -49,7 +49,7 @@ bool Snapper::applicable(const Event& e, bool count_guard)
         if (!alive(e.a) || !alive(e.b) || !alive(e.c)) {
             return false;
         }
-        if (!tri.is_face(m_mesh.vertex(e.a).handle, m_mesh.vertex(e.b).handle, m_mesh.vertex(e.c).handle)) {
+        if (!tri.is_face(m_mesh.handle(e.a), m_mesh.handle(e.b), m_mesh.handle(e.c))) {
             return false;
         }
         return std::max({dist2(e.a, e.b), dist2(e.b, e.c), dist2(e.c, e.a)}) <= m_vt2;
@@ -63,7 +63,7 @@ bool Snapper::applicable(const Event& e, bool count_guard)
         return false;
     }
     if (e.kind == Kind::sliver &&
-        !tri.is_face(m_mesh.vertex(e.a).handle, m_mesh.vertex(e.b).handle, m_mesh.vertex(e.c).handle)) {
+        !tri.is_face(m_mesh.handle(e.a), m_mesh.handle(e.b), m_mesh.handle(e.c))) {
         return false;
     }
     if (dist2(e.a, e.b) <= m_vt2 || dist2(e.a, e.c) <= m_vt2) {
@@ -78,9 +78,9 @@ bool Snapper::apply_face(const Event& e)
         face_event_gone(e);
         return false;
     }
-    const VertexRecord& ra = m_mesh.vertex(e.a);
-    const VertexRecord& rb = m_mesh.vertex(e.b);
-    const VertexRecord& rc = m_mesh.vertex(e.c);
+    const VertexRecord ra = m_mesh.vertex(e.a);
+    const VertexRecord rb = m_mesh.vertex(e.b);
+    const VertexRecord rc = m_mesh.vertex(e.c);
     const double wa = ra.weight, wb = rb.weight, wc = rc.weight;
     const double w = wa + wb + wc;
     const double x = (wa * ra.x + wb * rb.x + wc * rc.x) / w;
@@ -103,8 +103,8 @@ bool Snapper::apply_merge(const Event& e)
         merge_event_gone(e);
         return false;
     }
-    const VertexRecord& ra = m_mesh.vertex(e.a);
-    const VertexRecord& rb = m_mesh.vertex(e.b);
+    const VertexRecord ra = m_mesh.vertex(e.a);
+    const VertexRecord rb = m_mesh.vertex(e.b);
     const std::array<std::uint32_t, 2> olds{e.a, e.b};
     const double wa = ra.weight, wb = rb.weight;
     const double w = wa + wb;
@@ -120,7 +120,7 @@ bool Snapper::apply_split(const Event& e)
     if (!applicable(e, true)) {
         return false;
     }
-    const VertexRecord& ra = m_mesh.vertex(e.a);
+    const VertexRecord ra = m_mesh.vertex(e.a);
     const std::uint32_t split[2] = {e.b, e.c};
     const std::array<std::uint32_t, 1> olds{e.a};
     const std::uint32_t w = m_mesh.replace(olds, ra.x, ra.y, split);

@@ -35,10 +35,10 @@ void Snapper::initial_scan(bool every_pair)
         const std::array<std::uint32_t, 3> ids{f->vertex(0)->info().id, f->vertex(1)->info().id,
                                                f->vertex(2)->info().id};
         for (int i = 0; i < 3; ++i) {
-            const VertexRecord& rv = m_mesh.vertex(ids[i]);
-            const VertexRecord& ra = m_mesh.vertex(ids[cdt::Triangulation::cw(i)]);
-            const VertexRecord& rb = m_mesh.vertex(ids[cdt::Triangulation::ccw(i)]);
-            if (squared_distance_point_segment(rv.x, rv.y, ra.x, ra.y, rb.x, rb.y) <= reach2) {
+            const cdt::Point& rv = f->vertex(i)->point();
+            const cdt::Point& ra = f->vertex(cdt::Triangulation::cw(i))->point();
+            const cdt::Point& rb = f->vertex(cdt::Triangulation::ccw(i))->point();
+            if (squared_distance_point_segment(rv.x(), rv.y(), ra.x(), ra.y(), rb.x(), rb.y()) <= reach2) {
                 searched[ids[i]] = 1;
             }
         }
@@ -196,12 +196,12 @@ void Snapper::check_face(cdt::Face_handle f, bool every_face)
             if (!f->is_constrained(i)) {
                 continue;
             }
-            const VertexRecord& rv = m_mesh.vertex(ids[i]);
+            const cdt::Point& rv = f->vertex(i)->point();
             const std::uint32_t b = ids[cdt::Triangulation::cw(i)];
             const std::uint32_t c = ids[cdt::Triangulation::ccw(i)];
-            const VertexRecord& rb = m_mesh.vertex(b);
-            const VertexRecord& rc = m_mesh.vertex(c);
-            const double d2 = squared_distance_point_segment(rv.x, rv.y, rb.x, rb.y, rc.x, rc.y);
+            const cdt::Point& rb = f->vertex(cdt::Triangulation::cw(i))->point();
+            const cdt::Point& rc = f->vertex(cdt::Triangulation::ccw(i))->point();
+            const double d2 = squared_distance_point_segment(rv.x(), rv.y(), rb.x(), rb.y(), rc.x(), rc.y());
             // Within t of an end of the edge the sliver is never applicable (applicable()
             // refuses it, and no vertex moves: an edit makes new ones), so it is not queued:
             // at a tolerance near the layer's size nearly every sliver found is such a one
@@ -263,7 +263,7 @@ void Snapper::find_face_candidate(std::uint32_t v)
     const auto& tri = m_mesh.tri();
     bool found = false;
     Event best{};
-    auto fc = tri.incident_faces(m_mesh.vertex(v).handle);
+    auto fc = tri.incident_faces(m_mesh.handle(v));
     const auto done = fc;
     do {
         ++m_out.faces_visited;

@@ -162,13 +162,14 @@ private:
         m_out.face_events += k == Kind::face ? 1 : 0;
         m_out.peak_queue = std::max(m_out.peak_queue, m_queue.size());
     }
-    bool alive(std::uint32_t v) const { return m_mesh.vertex(v).alive; }
+    bool alive(std::uint32_t v) const { return m_mesh.alive(v); }
     /// Squared length below which a constrained edge can give no split event (discover_segment).
     double long_edge2() const { return 0.98 * 4 * (m_vt2 - m_et2) - 1e-12 * m_vt2; }
     double dist2(std::uint32_t p, std::uint32_t q) const
     {
-        const double dx = m_mesh.vertex(p).x - m_mesh.vertex(q).x;
-        const double dy = m_mesh.vertex(p).y - m_mesh.vertex(q).y;
+        const Xy a = m_mesh.xy(p), b = m_mesh.xy(q);
+        const double dx = a.x - b.x;
+        const double dy = a.y - b.y;
         return dx * dx + dy * dy;
     }
 

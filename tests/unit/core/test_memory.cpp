@@ -124,6 +124,67 @@ TEST(EngineMemory, ALayerWithoutZHoldsNoZValues)
     EXPECT_EQ(alive_with_z, 1u);
 }
 
+// A vertex's point lives in its CGAL vertex while it is in the triangulation and in the mesh's
+// kept points once it is out (VertexSlot): removed by the snapper's merges and splits, or with
+// the whole triangulation. Every vertex reads the same point throughout: its CGAL point before
+// the snapper, the input's for every input point (merged or not), and after the release what
+// it read before; handles are null exactly for the vertices out of the triangulation.
+TEST(EngineMemory, EveryVertexKeepsItsPointOutOfTheTriangulation)
+{
+    constexpr double t = SearchedMesh::t;
+    const std::vector<Feature> in = near_degenerate_polygons(40, 10.0, t, 13);
+    const std::vector<detail::CleanFeature> clean = SearchedMesh::cleaned(in);
+    detail::Mesh mesh(clean, t);
+    std::vector<detail::Xy> before(mesh.vertex_slots());
+    for (std::uint32_t v = 0; v < mesh.vertex_slots(); ++v) {
+        const detail::VertexRecord r = mesh.vertex(v);
+        ASSERT_TRUE(r.handle != cdt::Vertex_handle()) << "vertex " << v;
+        EXPECT_EQ(r.x, r.handle->point().x());
+        EXPECT_EQ(r.y, r.handle->point().y());
+        before[v] = mesh.xy(v);
+    }
+    const detail::SnapperOutcome out = run_snapper_at(mesh, t);
+    ASSERT_GT(out.merges, 10u) << "the case must remove vertices";
+    std::size_t removed = 0;
+    for (std::uint32_t v = 0; v < mesh.vertex_slots(); ++v) {
+        const detail::VertexRecord r = mesh.vertex(v);
+        EXPECT_EQ(r.handle != cdt::Vertex_handle(), r.alive) << "vertex " << v;
+        removed += r.alive ? 0 : 1;
+        if (v < before.size()) {
+            EXPECT_EQ(r.x, before[v].x) << "vertex " << v;
+            EXPECT_EQ(r.y, before[v].y) << "vertex " << v;
+        }
+        if (r.alive) {
+            EXPECT_EQ(r.x, r.handle->point().x()) << "vertex " << v;
+            EXPECT_EQ(r.y, r.handle->point().y()) << "vertex " << v;
+        }
+    }
+    ASSERT_GT(removed, 10u);
+    for (std::size_t f = 0; f < clean.size(); ++f) {
+        std::vector<Coord> points;
+        for (const detail::CleanRing& ring : clean[f].rings) {
+            points.insert(points.end(), ring.points.begin(), ring.points.end());
+            points.push_back(ring.points.front());
+        }
+        const auto ids = mesh.input_vertices(f);
+        ASSERT_EQ(ids.size(), points.size());
+        for (std::size_t k = 0; k < ids.size(); ++k) {
+            EXPECT_EQ(mesh.xy(ids[k]).x, points[k].x) << "feature " << f << " point " << k;
+            EXPECT_EQ(mesh.xy(ids[k]).y, points[k].y) << "feature " << f << " point " << k;
+        }
+    }
+    std::vector<detail::Xy> snapped(mesh.vertex_slots());
+    for (std::uint32_t v = 0; v < mesh.vertex_slots(); ++v) snapped[v] = mesh.xy(v);
+    mesh.release_search_scratch();
+    mesh.release_triangulation();
+    for (std::uint32_t v = 0; v < mesh.vertex_slots(); ++v) {
+        const detail::VertexRecord r = mesh.vertex(v);
+        EXPECT_TRUE(r.handle == cdt::Vertex_handle()) << "vertex " << v;
+        EXPECT_EQ(r.x, snapped[v].x) << "vertex " << v;
+        EXPECT_EQ(r.y, snapped[v].y) << "vertex " << v;
+    }
+}
+
 // A face keeps its stamp in 28 bits (a 56-byte face): the counter wraps at cdt::k_stamp_limit
 // and clears every mark. Searches on both sides of the wrap find what they find far from it;
 // with the wrap past the field's width a stored stamp would lose its top bits and never match,
@@ -223,7 +284,7 @@ TEST(EngineMemory, OutlinedInputIsInTheRecords)
         const auto ids = outlined.input_vertices(f);
         ASSERT_EQ(ids.size(), expected.size()) << "feature " << f;
         for (std::size_t k = 0; k < ids.size(); ++k, ++points) {
-            const detail::VertexRecord& r = outlined.vertex(ids[k]);
+            const detail::Xy r = outlined.xy(ids[k]);
             EXPECT_EQ(r.x, expected[k].x) << "feature " << f << " point " << k;
             EXPECT_EQ(r.y, expected[k].y) << "feature " << f << " point " << k;
         }

@@ -67,7 +67,7 @@ detail::SnapperParams snapper_params(const SnapOptions& o, std::size_t vertices)
 
 struct Context {
     const SnapOptions& options;
-    const Outlines& clean; ///< the cleaned features' outlines (the mesh's records hold their points)
+    const Outlines& outlines; ///< the cleaned features' (the mesh's records hold their points)
     Mesh& mesh;
     SnapResult& result;
     detail::WorkMeter& meter;
@@ -89,7 +89,7 @@ double feature_displacement(Context& c, std::size_t f)
 
 void report_outcome(Context& c, std::size_t f, const Geometry& g, double moved)
 {
-    if (detail::outcome_problems(c.clean[f], g, moved, c.options, c.result.problems)) ++c.result.stats.collapsed_features;
+    if (detail::outcome_problems(c.outlines[f], g, moved, c.options, c.result.problems)) ++c.result.stats.collapsed_features;
 }
 
 /// By feature id, then code (the order snap() promises).
@@ -175,13 +175,13 @@ Boundaries take_boundaries(Context& c, detail::FaceLabels& labels)
 {
     const std::size_t k = detail::FaceLabels::k_block;
     Boundaries b;
-    b.first.reserve(c.clean.size() + 1);
+    b.first.reserve(c.outlines.size() + 1);
     std::vector<detail::IdEdge> scratch;
-    for (std::size_t lo = 0; lo < c.clean.size(); lo += k) {
+    for (std::size_t lo = 0; lo < c.outlines.size(); lo += k) {
         scratch.clear();
-        const std::size_t hi = std::min(c.clean.size(), lo + k);
+        const std::size_t hi = std::min(c.outlines.size(), lo + k);
         for (std::size_t f = lo; f < hi; ++f) {
-            if (c.clean[f].polygonal && !c.clean[f].rejected) {
+            if (c.outlines[f].polygonal && !c.outlines[f].rejected) {
                 detail::append_boundary_edges(c.mesh, labels.faces_of(f), scratch);
             }
             b.first.push_back(b.first[lo] + scratch.size());
@@ -196,7 +196,7 @@ void extract_block(Context& c, const Boundaries& boundaries, const std::vector<d
                    const detail::LineEdges& lines, std::size_t lo, std::size_t hi)
 {
     for (std::size_t f = lo; f < hi; ++f) {
-        const Outline& cf = c.clean[f];
+        const Outline& cf = c.outlines[f];
         FeatureOutput& out = c.result.features[cf.index];
         out.id = cf.id;
         if (cf.rejected) continue;
@@ -205,13 +205,13 @@ void extract_block(Context& c, const Boundaries& boundaries, const std::vector<d
         if (cf.polygonal) {
             out.geometry = detail::assemble_boundary(c.mesh, boundaries.of(f), eo);
         } else {
-            out.geometry = detail::extract_lines(c.mesh, lines.of(f), c.clean.starts(f), eo);
+            out.geometry = detail::extract_lines(c.mesh, lines.of(f), c.outlines.starts(f), eo);
         }
         out.geometry.has_z = has_z;
         out.max_displacement = std::max(feature_displacement(c, f), deviation[f]);
         c.result.stats.max_displacement = std::max(c.result.stats.max_displacement, out.max_displacement);
         report_outcome(c, f, out.geometry, out.max_displacement);
-        if ((f & 255) == 255) c.meter.advance(f, c.clean.size());
+        if ((f & 255) == 255) c.meter.advance(f, c.outlines.size());
     }
 }
 

@@ -169,7 +169,7 @@ namespace {
 std::uint32_t count32(std::size_t n, const char* what)
 {
     if (n > std::numeric_limits<std::uint32_t>::max()) {
-        throw std::length_error(std::string("more than 2^32 ") + what + " in one feature");
+        throw std::length_error(std::string("more than 2^32 ") + what);
     }
     return static_cast<std::uint32_t>(n);
 }
@@ -187,9 +187,9 @@ Outline outline_of(const CleanFeature& f)
     o.polygonal = f.polygonal;
     o.rejected = f.rejected;
     assert(f.polygonal ? f.lines.empty() : f.rings.empty()); // clean_feature makes rings or lines
-    o.paths = count32(f.rings.size() + f.lines.size(), "rings or lines");
-    o.parts = count32(f.polygonal ? f.shells : f.lines.size(), "parts");
-    o.holes = count32(f.holes, "holes");
+    o.paths = count32(f.rings.size() + f.lines.size(), "rings or lines in one feature");
+    o.parts = count32(f.polygonal ? f.shells : f.lines.size(), "parts in one feature");
+    o.holes = count32(f.holes, "holes in one feature");
     const Coord* first = nullptr;
     if (f.polygonal && !f.rings.empty() && !f.rings.front().points.empty()) first = &f.rings.front().points.front();
     if (!f.polygonal && !f.lines.empty() && !f.lines.front().empty()) first = &f.lines.front().front();
@@ -209,7 +209,7 @@ Outlines make_outlines(const std::vector<CleanFeature>& features)
     out.line_starts.reserve(lines);
     for (const CleanFeature& f : features) {
         Outline& o = out.features.emplace_back(outline_of(f));
-        o.first_line = count32(out.line_starts.size(), "lines in all"); // the engine refuses 2^31 points first
+        o.first_line = count32(out.line_starts.size(), "lines in one run");
         for (const std::vector<Coord>& l : f.lines) out.line_starts.push_back(l.front());
     }
     return out;

@@ -362,6 +362,114 @@ TEST_P(StoreTest, ThePlanTakesTheSampleAndDoesNotDependOnItsOrder)
     }
 }
 
+// The reach and bucket passes read the spool on one thread, cut on several and take the results
+// in the spool's order: the layout and every bucket are the same at 1 and at 3 threads, and
+// every bucket holds exactly what cutting each spooled feature to the leaf's reach one after
+// the other gives (rank, id, whether whole, geometry), in rank order.
+TEST(Buckets, TheBucketsAreOneThreadsAtAnyThreads)
+{
+    const double t = 0.01;
+    std::vector<Feature> input = perturbed_grid_coverage(12, 12, 1.0, 0.2, 3, 1, 0.004);
+    for (Feature& f : coverage_line_and_rejected(8, 5)) {
+        f.id += 100000; // lines and a rejected feature besides the coverage
+        input.push_back(std::move(f));
+    }
+    struct Planned {
+        std::unique_ptr<tiling::WorkStore> store;
+        stitch::SpoolMeta meta;
+        stitch::TileLayout layout;
+    };
+    auto plan_at = [&](int threads) {
+        Planned p;
+        p.store = tiling::make_memory_store();
+        p.meta = spool_features(*p.store, input, t, 400, 64);
+        stitch::TilingOptions tiling;
+        tiling.plan.vertex_budget = 60;
+        tiling.threads = threads;
+        stitch::TiledRun run(*p.store, options_at(t), tiling, stitch::ScheduleOptions{});
+        run.plan(p.meta);
+        p.layout = run.layout();
+        return p;
+    };
+    const Planned one = plan_at(1);
+    const Planned three = plan_at(3);
+    const std::size_t leaves = one.layout.plan.size();
+    ASSERT_GT(leaves, 8u);
+    ASSERT_EQ(three.layout.plan.size(), leaves);
+    // Each leaf's reach as reach_box() grows it over every feature, one after the other.
+    std::vector<tiling::TileFeature> whole;
+    {
+        const tiling::Box everywhere{-1e9, -1e9, 1e9, 1e9};
+        const tiling::TileCutter uncut(everywhere, tiling::detour_frame(one.meta.sample.extent, everywhere));
+        stitch::SpooledFeatures spooled(*one.store);
+        detail::CleanFeature cf;
+        bool has_z = false;
+        while (spooled.next(cf, has_z)) {
+            tiling::TileFeature tf;
+            if (!cf.rejected && uncut.cut(cf, has_z, tf.feature, tf.intact)) {
+                ASSERT_TRUE(tf.intact);
+                whole.push_back(std::move(tf));
+            }
+        }
+    }
+    std::size_t grown = 0;
+    for (std::size_t leaf = 0; leaf < leaves; ++leaf) {
+        if (!one.layout.has_data(leaf)) {
+            EXPECT_TRUE(one.layout.reach[leaf].empty()) << "leaf " << leaf;
+            continue;
+        }
+        const tiling::Box want = stitch::reach_box(one.layout.core_box(leaf), one.layout.halo, whole);
+        const tiling::Box& got = one.layout.reach[leaf];
+        EXPECT_TRUE(got.xmin == want.xmin && got.ymin == want.ymin && got.xmax == want.xmax && got.ymax == want.ymax)
+            << "leaf " << leaf;
+        const tiling::Box r0 = one.layout.core_box(leaf).expanded(one.layout.halo).expanded(one.layout.halo);
+        grown += r0.contains(got) ? 0 : 1;
+    }
+    EXPECT_GT(grown, 0u) << "some reach grew past the core and halo (features crossing it)";
+    std::size_t entries = 0, cut = 0;
+    for (std::size_t leaf = 0; leaf < leaves; ++leaf) {
+        const tiling::Box& r = one.layout.reach[leaf];
+        const tiling::Box& r3 = three.layout.reach[leaf];
+        EXPECT_TRUE(r.xmin == r3.xmin && r.ymin == r3.ymin && r.xmax == r3.xmax && r.ymax == r3.ymax) << "leaf " << leaf;
+        EXPECT_EQ(one.layout.bucket_vertices[leaf], three.layout.bucket_vertices[leaf]) << "leaf " << leaf;
+        EXPECT_EQ(one.layout.bucket_features[leaf], three.layout.bucket_features[leaf]) << "leaf " << leaf;
+        const std::vector<tiling::TileFeature> a = stitch::read_bucket(*one.store, one.layout, one.meta, leaf);
+        const std::vector<tiling::TileFeature> b = stitch::read_bucket(*three.store, three.layout, three.meta, leaf);
+        // What one thread cutting feature after feature gives.
+        std::vector<tiling::TileFeature> expected;
+        if (!r.empty()) {
+            const tiling::TileCutter cutter(r, tiling::detour_frame(one.meta.sample.extent, r));
+            stitch::SpooledFeatures spooled(*one.store);
+            detail::CleanFeature cf;
+            bool has_z = false;
+            for (std::uint64_t rank = 0; spooled.next(cf, has_z); ++rank) {
+                const tiling::Box box = stitch::box_of(cf);
+                tiling::TileFeature tf;
+                if (cf.rejected || box.empty() || !r.intersects(box) || !cutter.cut(cf, has_z, tf.feature, tf.intact)) {
+                    continue;
+                }
+                tf.rank = rank;
+                tf.feature.id = stitch::engine_id(one.meta, cf);
+                expected.push_back(std::move(tf));
+            }
+        }
+        ASSERT_EQ(a.size(), expected.size()) << "leaf " << leaf;
+        ASSERT_EQ(b.size(), expected.size()) << "leaf " << leaf;
+        EXPECT_EQ(one.layout.bucket_features[leaf], expected.size()) << "leaf " << leaf;
+        for (std::size_t k = 0; k < expected.size(); ++k, ++entries) {
+            for (const tiling::TileFeature* got : {&a[k], &b[k]}) {
+                EXPECT_EQ(got->rank, expected[k].rank) << "leaf " << leaf << " entry " << k;
+                EXPECT_EQ(got->feature.id, expected[k].feature.id) << "leaf " << leaf << " entry " << k;
+                EXPECT_EQ(got->intact, expected[k].intact) << "leaf " << leaf << " entry " << k;
+                EXPECT_EQ(to_wkt(got->feature.geometry), to_wkt(expected[k].feature.geometry)) << "leaf " << leaf << " entry " << k;
+            }
+            cut += expected[k].intact ? 0 : 1;
+        }
+    }
+    EXPECT_GT(entries, input.size()) << "features in several buckets (halos)";
+    EXPECT_GT(cut, 0u) << "some features cut to a reach";
+}
+
 // A plan of one leaf (as with --no-tiles) stores no bucket: its bucket is features.bin, each
 // feature cut to the reach as it is read, and holds exactly what a bucket file would: every
 // feature that is not rejected, in order, whole, with the counts the layout gives.

@@ -4,10 +4,6 @@
 #include "tiling/records.hpp"
 #include "tiling/tile_input.hpp"
 
-#include <tbb/info.h>
-#include <tbb/parallel_pipeline.h>
-#include <tbb/task_arena.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -271,56 +267,6 @@ tiling::Box reach_box(const tiling::Box& core, double halo, const std::vector<ti
 
 namespace {
 
-// One spooled feature on its way through a pass: read in order, worked on by any thread, taken
-// in order again.
-struct PassItem {
-    std::uint64_t rank = 0;
-    detail::CleanFeature cf;
-    bool has_z = false;
-    std::vector<std::size_t> leaves;
-    std::vector<std::pair<std::size_t, Box>> grown;                  ///< reach pass: per leaf
-    std::vector<std::pair<std::size_t, tiling::TileFeature>> entries; ///< bucket pass: per leaf
-};
-
-// Reads the spool in order on one thread (`read`: what the feature needs that is not
-// thread-safe), runs `work` on each feature on any of `threads` threads, and `take` on each in
-// the spool's order on one thread: what `take` does happens in the order a single thread gives,
-// so the passes' results do not depend on the threads. At most 2 x threads features in flight.
-// The cutting of features to the leaves' reach boxes was 7.7 % of Natural Earth land's
-// instructions tiled, all on one thread.
-template <class Read, class Work, class Take>
-void spool_pipeline(const tiling::WorkStore& store, int threads, Read&& read, Work&& work, Take&& take)
-{
-    const int n = threads > 0 ? threads : tbb::info::default_concurrency();
-    SpooledFeatures in(store);
-    std::uint64_t next = 0;
-    tbb::task_arena arena(n);
-    arena.execute([&] {
-        tbb::parallel_pipeline(
-            static_cast<std::size_t>(2 * n),
-            tbb::make_filter<void, std::shared_ptr<PassItem>>(tbb::filter_mode::serial_in_order,
-                                                              [&](tbb::flow_control& fc) -> std::shared_ptr<PassItem> {
-                                                                  auto item = std::make_shared<PassItem>();
-                                                                  if (!in.next(item->cf, item->has_z)) {
-                                                                      fc.stop();
-                                                                      return nullptr;
-                                                                  }
-                                                                  item->rank = next++;
-                                                                  read(*item);
-                                                                  return item;
-                                                              }) &
-                tbb::make_filter<std::shared_ptr<PassItem>, std::shared_ptr<PassItem>>(
-                    tbb::filter_mode::parallel,
-                    [&](std::shared_ptr<PassItem> item) {
-                        work(*item);
-                        item->cf = detail::CleanFeature{}; // freed on the thread that used it
-                        return item;
-                    }) &
-                tbb::make_filter<std::shared_ptr<PassItem>, void>(tbb::filter_mode::serial_in_order,
-                                                                  [&](std::shared_ptr<PassItem> item) { take(*item); }));
-    });
-}
-
 class BucketMaker {
 public:
     BucketMaker(tiling::WorkStore& store, const SpoolMeta& meta, const TilingOptions& tiling, const BucketOptions& options,
@@ -354,38 +300,25 @@ void BucketMaker::reach_pass()
         r0[leaf] = m_layout.has_data(leaf) ? m_layout.core_box(leaf).expanded(h) : Box{};
     }
     m_layout.reach = r0;
-    // Each feature's growth of each leaf's reach is found on any thread, from an empty box, and
-    // added to the reach in the spool's order: a box's growth is a min and a max, so the reach is
-    // the one a single pass gives.
-    spool_pipeline(
-        m_store, m_tiling.threads,
-        [&](PassItem& item) {
-            if (m_progress && item.rank % 4096 == 0) {
-                m_progress(item.rank, 2 * m_meta.spooled);
-            }
-        },
-        [&](PassItem& item) {
-            const Box b = box_of(item.cf);
-            if (item.cf.rejected || b.empty()) {
-                return;
-            }
-            plan.query(b.expanded(h), item.leaves);
-            for (std::size_t leaf : item.leaves) {
-                if (r0[leaf].empty()) {
-                    continue;
-                }
-                Box grown;
-                grow_reach(item.cf, b, r0[leaf], grown);
-                if (!grown.empty()) {
-                    item.grown.emplace_back(leaf, grown);
+    SpooledFeatures in(m_store);
+    detail::CleanFeature cf;
+    bool has_z = false;
+    std::vector<std::size_t> leaves;
+    for (std::uint64_t rank = 0; in.next(cf, has_z); ++rank) {
+        const Box b = box_of(cf);
+        if (!cf.rejected && !b.empty()) {
+            leaves.clear();
+            plan.query(b.expanded(h), leaves);
+            for (std::size_t leaf : leaves) {
+                if (!r0[leaf].empty()) {
+                    grow_reach(cf, b, r0[leaf], m_layout.reach[leaf]);
                 }
             }
-        },
-        [&](PassItem& item) {
-            for (const auto& [leaf, grown] : item.grown) {
-                m_layout.reach[leaf].add(grown);
-            }
-        });
+        }
+        if (m_progress && rank % 4096 == 0) {
+            m_progress(rank, 2 * m_meta.spooled);
+        }
+    }
     for (Box& r : m_layout.reach) {
         if (!r.empty()) {
             r = r.expanded(h);
@@ -399,47 +332,39 @@ void BucketMaker::bucket_pass()
     m_layout.bucket_vertices.assign(n, 0);
     m_layout.bucket_features.assign(n, 0);
     ReachGrid grid(m_layout.reach, m_meta.sample.extent);
-    // Made before any thread cuts with them (TileCutter::cut is const): each leaf's on the read
-    // thread, the first time a feature meets it.
     std::vector<std::unique_ptr<tiling::TileCutter>> cutters(n);
     BucketWriter writer(m_store, m_options.buffer_bytes);
     // A plan's only leaf keeps no bucket file (read_bucket() makes it from features.bin): here
     // its features are only counted. The layer is then not held twice (40 MB of Andorra x43's
     // 127 in memory, or as much disk).
     const bool whole = whole_spool_bucket(m_layout);
-    spool_pipeline(
-        m_store, m_tiling.threads,
-        [&](PassItem& item) {
-            const Box b = box_of(item.cf);
-            if (!item.cf.rejected && !b.empty()) {
-                grid.query(b, item.leaves); // the grid's stamps are not thread-safe
-                for (std::size_t leaf : item.leaves) {
-                    if (!cutters[leaf]) {
-                        cutters[leaf] = leaf_cutter(m_layout, m_meta, leaf);
-                    }
+    SpooledFeatures in(m_store);
+    detail::CleanFeature cf;
+    bool has_z = false;
+    std::vector<std::size_t> leaves;
+    tiling::TileFeature tf;
+    for (std::uint64_t rank = 0; in.next(cf, has_z); ++rank) {
+        const Box b = box_of(cf);
+        if (!cf.rejected && !b.empty()) {
+            grid.query(b, leaves);
+            for (std::size_t leaf : leaves) {
+                if (!cutters[leaf]) {
+                    cutters[leaf] = leaf_cutter(m_layout, m_meta, leaf);
                 }
-            }
-            if (m_progress && item.rank % 4096 == 0) {
-                m_progress(m_meta.spooled + item.rank, 2 * m_meta.spooled);
-            }
-        },
-        [&](PassItem& item) {
-            for (std::size_t leaf : item.leaves) {
-                tiling::TileFeature tf;
-                if (bucket_entry(*cutters[leaf], m_meta, item.cf, item.has_z, item.rank, tf)) {
-                    item.entries.emplace_back(leaf, std::move(tf));
+                if (!bucket_entry(*cutters[leaf], m_meta, cf, has_z, rank, tf)) {
+                    continue;
                 }
-            }
-        },
-        [&](PassItem& item) {
-            for (const auto& [leaf, tf] : item.entries) {
                 m_layout.bucket_vertices[leaf] += tiling::engine_vertices(tf.feature.geometry);
                 ++m_layout.bucket_features[leaf];
                 if (!whole) {
                     writer.add(leaf, tf);
                 }
             }
-        });
+        }
+        if (m_progress && rank % 4096 == 0) {
+            m_progress(m_meta.spooled + rank, 2 * m_meta.spooled);
+        }
+    }
     writer.flush();
 }
 

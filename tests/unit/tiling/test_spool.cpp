@@ -362,14 +362,14 @@ TEST_P(StoreTest, ThePlanTakesTheSampleAndDoesNotDependOnItsOrder)
     }
 }
 
-// The reach and bucket passes read the spool on one thread, cut on several and take the results
-// in the spool's order: the layout and every bucket are the same at 1 and at 3 threads, and
-// every bucket holds exactly what cutting each spooled feature to the leaf's reach one after
-// the other gives (rank, id, whether whole, geometry), in rank order.
-TEST(Buckets, TheBucketsAreOneThreadsAtAnyThreads)
+// The plan's reach and bucket passes: the layout and every bucket are the same at 1 and at 3
+// threads, each leaf's reach is what reach_box() grows over every feature, and every bucket
+// holds exactly what cutting each spooled feature to the leaf's reach one after the other gives
+// (rank, id, whether whole, geometry), in rank order.
+TEST(Buckets, ReachesAndBucketsAreTheOneByOneCutsAtAnyThreads)
 {
     const double t = 0.01;
-    std::vector<Feature> input = perturbed_grid_coverage(12, 12, 1.0, 0.2, 3, 1, 0.004);
+    std::vector<Feature> input = perturbed_grid_coverage(20, 20, 1.0, 0.2, 3, 1, 0.004);
     for (Feature& f : coverage_line_and_rejected(8, 5)) {
         f.id += 100000; // lines and a rejected feature besides the coverage
         input.push_back(std::move(f));

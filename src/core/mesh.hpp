@@ -293,9 +293,10 @@ public:
     void release_owners();
     /// Frees CGAL's triangulation and the edits' scratch once the outputs' edges are taken out of
     /// it (core/extraction.hpp), so the outputs are made in the memory it held (Andorra x43
-    /// untiled: 230 MB of faces and vertices). The vertex records stay (coordinates, z,
-    /// forwarding, input ids: the outputs and the drift read them); their handles do not, and
-    /// nothing that reads the triangulation or the owners may be called after it.
+    /// untiled: 230 MB of faces and vertices). The vertices' slots stay, every point moved to
+    /// m_kept first (coordinates, z, forwarding, input ids: the outputs and the drift read
+    /// them); handle() is null for every vertex from then on, and nothing that reads the
+    /// triangulation or the owners may be called after it.
     void release_triangulation();
     /// Whether the long edges are in a grid (core/long_edges.hpp; for the tests).
     bool long_edges_indexed() const { return m_long_indexed; }

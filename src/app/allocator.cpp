@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -21,9 +22,7 @@
 namespace trisnap {
 namespace {
 
-#if defined(__GLIBC__) && !defined(TRISNAP_SANITIZED_MALLOC)
-constexpr std::size_t k_block = std::size_t{16} << 20;  // below the mmap threshold: taken from the heap
-constexpr std::uint64_t k_most = std::uint64_t{1} << 30; // and below the trim threshold (INT_MAX) once freed
+namespace fs = std::filesystem;
 
 std::string first_line(const char* path)
 {
@@ -32,6 +31,10 @@ std::string first_line(const char* path)
     std::getline(in, line);
     return line;
 }
+
+#if defined(__GLIBC__) && !defined(TRISNAP_SANITIZED_MALLOC)
+constexpr std::size_t k_block = std::size_t{16} << 20;  // below the mmap threshold: taken from the heap
+constexpr std::uint64_t k_most = std::uint64_t{1} << 30; // and below the trim threshold (INT_MAX) once freed
 
 std::uint64_t quarter_of_limit(int resource)
 {
@@ -114,15 +117,34 @@ bool a_mapping_starts_at(std::uintptr_t at)
 
 bool huge_pages_wanted()
 {
-    if (const char* off = std::getenv("TRISNAP_HUGE_PAGES"); off != nullptr && std::strcmp(off, "0") == 0) {
+    const char* setting = std::getenv("TRISNAP_HUGE_PAGES");
+    if (setting != nullptr && std::strcmp(setting, "0") == 0) {
         return false;
     }
+    const bool forced = setting != nullptr && std::strcmp(setting, "1") == 0;
     return first_line("/sys/kernel/mm/transparent_hugepage/enabled").find("[madvise]") != std::string::npos &&
-           first_line("/proc/sys/vm/overcommit_memory") != "2";
+           first_line("/proc/sys/vm/overcommit_memory") != "2" && (forced || !free_pages_reported("/sys/bus/virtio/devices"));
 }
 #endif
 
 } // namespace
+
+bool free_pages_reported(const std::string& virtio_devices)
+{
+    constexpr std::size_t k_reporting = 5; // VIRTIO_BALLOON_F_REPORTING
+    std::error_code ec;
+    for (fs::directory_iterator it(virtio_devices, ec), end; !ec && it != end; it.increment(ec)) {
+        const fs::path device = it->path();
+        if (first_line((device / "device").c_str()) != "0x0005") { // a memory balloon
+            continue;
+        }
+        const std::string features = first_line((device / "features").c_str());
+        if (features.size() > k_reporting && features[k_reporting] == '1') {
+            return true;
+        }
+    }
+    return false;
+}
 
 void advise_thread_heap()
 {

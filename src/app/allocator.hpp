@@ -9,6 +9,7 @@
 // on this VM, and tbbmalloc unmapped and re-mapped 330 of its 480 MB on Natural Earth's land
 // (97 k faults; 45 k now). The huge pages: REPORT.md "Huge pages for the heap" (2026-11-28).
 #include <climits> // brings glibc's <features.h>, which defines __GLIBC__
+#include <string>
 
 #if defined(__SANITIZE_ADDRESS__)
 #define TRISNAP_SANITIZED_MALLOC 1
@@ -36,8 +37,21 @@ inline constexpr bool k_glibc_malloc = false;
 /// peak rounds up to them: +1 to 3 % measured). Only where the kernel's THP mode is "madvise" (with "always" every page is huge
 /// already, with "never" none can be), the overcommit policy is not strict (2: the range would
 /// count against it), and a quarter of RLIMIT_DATA and RLIMIT_AS allows it; at most 1/8 of the
-/// memory. TRISNAP_HUGE_PAGES=0 in the environment turns it off.
+/// memory. Nor where the hypervisor takes the guest's free memory back (free_pages_reported()):
+/// there a huge page the kernel hands out is mostly one the host dropped, and its first touch
+/// waits for the host to back all 2 MiB (measured 2026-12-03 on the team's VM: ~10 ms a huge page
+/// touched cold, 0.1 GB/s, against 2 GB/s in 4 KiB pages; Andorra x43 untiled 12.8 -> 9.5 s,
+/// bench/results/REPORT.md "Huge pages where the host takes free memory back").
+/// TRISNAP_HUGE_PAGES=0 in the environment turns the advice off; =1 gives it even where free
+/// pages are reported (the kernel's mode and the overcommit policy still decide).
 void keep_freed_memory();
+
+/// Whether a virtio memory balloon under `virtio_devices` (/sys/bus/virtio/devices: one
+/// directory per device with its `device` id and `features` bit string) reports free pages to
+/// the host (VIRTIO_BALLOON_F_REPORTING, bit 5): the host then drops free blocks of 2 MiB and up
+/// (the kernel's page_reporting_order) ~2 s after they are freed, and backs them again on their
+/// next touch. False where the directory or its files cannot be read.
+bool free_pages_reported(const std::string& virtio_devices);
 
 /// Call first thing in a thread that grows memory of its own (app/read_phase.cpp): its glibc
 /// heap (a 64 MiB mapping per arena, not the first thread's) advised for transparent huge pages

@@ -213,10 +213,13 @@ Index PolygonAssembler::next(Index e) const
     if (v == k_no) {
         return k_no;
     }
-    const Coord& at = m_edges[e].b;
-    const Coord& back = m_edges[e].a;
     const auto lo = m_out.begin() + m_first[v];
     const auto hi = m_out.begin() + m_first[v + 1];
+    if (hi - lo == 1) {
+        return *lo; // the only out-edge, whichever side of it the way back lies (most vertices)
+    }
+    const Coord& at = m_edges[e].b;
+    const Coord& back = m_edges[e].a;
     const auto it = std::lower_bound(lo, hi, back, [&](Index o, const Coord& b) {
         return direction_less(at, m_edges[o].b, b);
     });

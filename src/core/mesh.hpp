@@ -370,13 +370,7 @@ private:
             count_edge(a, b, -1);
         }
     }
-    bool is_long(std::uint32_t a, std::uint32_t b) const
-    {
-        const Xy pa = xy(a), pb = xy(b);
-        const double dx = pa.x - pb.x;
-        const double dy = pa.y - pb.y;
-        return dx * dx + dy * dy >= m_long2;
-    }
+    bool is_long(std::uint32_t a, std::uint32_t b) const { return vertex_d2(a, b) >= m_long2; }
     void count_edge(std::uint32_t a, std::uint32_t b, int delta)
     {
         if (is_long(a, b)) {

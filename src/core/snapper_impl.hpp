@@ -165,13 +165,7 @@ private:
     bool alive(std::uint32_t v) const { return m_mesh.alive(v); }
     /// Squared length below which a constrained edge can give no split event (discover_segment).
     double long_edge2() const { return 0.98 * 4 * (m_vt2 - m_et2) - 1e-12 * m_vt2; }
-    double dist2(std::uint32_t p, std::uint32_t q) const
-    {
-        const Xy a = m_mesh.xy(p), b = m_mesh.xy(q);
-        const double dx = a.x - b.x;
-        const double dy = a.y - b.y;
-        return dx * dx + dy * dy;
-    }
+    double dist2(std::uint32_t p, std::uint32_t q) const { return m_mesh.vertex_d2(p, q); }
 
     Mesh& m_mesh;
     SnapperParams m_p;

@@ -39,8 +39,8 @@ inline constexpr bool k_glibc_malloc = false;
 /// count against it), and a quarter of RLIMIT_DATA and RLIMIT_AS allows it; at most 1/8 of the
 /// memory. Nor where the hypervisor takes the guest's free memory back (free_pages_reported()):
 /// there a huge page the kernel hands out is mostly one the host dropped, and its first touch
-/// waits for the host to back all 2 MiB (measured 2026-12-03 on the team's VM: ~10 ms a huge page
-/// touched cold, 0.1 GB/s, against 2 GB/s in 4 KiB pages; Andorra x43 untiled 12.8 -> 9.5 s,
+/// waits for the host to back all 2 MiB (measured 2026-12-03 on the team's VM: 5-20 ms a huge
+/// page touched cold, 0.1 GB/s in a touch test, against 2 GB/s in 4 KiB pages; Andorra x43 untiled 12.8 -> 9.5 s,
 /// bench/results/REPORT.md "Huge pages where the host takes free memory back").
 /// TRISNAP_HUGE_PAGES=0 in the environment turns the advice off; =1 gives it even where free
 /// pages are reported (the kernel's mode and the overcommit policy still decide).

@@ -242,37 +242,46 @@ void FeatureSpool::append(SpoolPart&& part)
     for (const std::int64_t fid : part.m_fids) {
         m.note_fid(fid);
     }
-    std::size_t block = 0;
-    std::size_t at = 0;
-    for (const std::size_t size : part.m_sizes) {
-        if (at + size > part.m_blocks[block].size()) {
-            std::string().swap(part.m_blocks[block++]); // copied: freed at once, not with the part
-            at = 0;
-        }
-        m.write_record(std::string_view(part.m_blocks[block]).substr(at, size));
-        at += size;
+    // The records' offsets in the features file, then their bytes: block by block, each given
+    // to the file (in memory it becomes one of the file's chunks).
+    const std::uint64_t base = m.features->bytes_written();
+    std::string offsets;
+    offsets.reserve(part.m_starts.size() * sizeof(std::uint64_t));
+    for (const std::uint64_t start : part.m_starts) {
+        const std::uint64_t offset = base + start;
+        offsets.append(reinterpret_cast<const char*>(&offset), sizeof offset);
+    }
+    m.offsets->write(offsets);
+    for (std::string& block : part.m_blocks) {
+        m.features->write_block(std::move(block));
     }
     m.meta.records += part.m_meta.records;
     m.meta.vertices += part.m_meta.vertices;
     note_largest(m.meta, part.m_meta.largest_vertices, part.m_meta.largest_fid); // the part's come later
     m.meta.spooled += part.m_meta.spooled;
     m.sample.append(std::move(part.m_sample));
-    part = SpoolPart(part.m_tolerance, 16);
+    part = SpoolPart(part.m_tolerance, 16, part.m_block_bytes);
 }
 
-SpoolPart::SpoolPart(double tolerance, std::size_t sample_cap) : m_tolerance(tolerance), m_sample(sample_cap) {}
+SpoolPart::SpoolPart(double tolerance, std::size_t sample_cap, std::size_t block_bytes)
+    : m_tolerance(tolerance), m_sample(sample_cap), m_block_bytes(std::max<std::size_t>(block_bytes, 1))
+{
+}
 
 void SpoolPart::add(std::uint64_t seq, std::int64_t fid, const Geometry& geometry, std::vector<Problem>& problems)
 {
     ++m_meta.records;
     m_fids.push_back(fid);
     spool_feature(seq, fid, geometry, m_tolerance, problems, m_sample, m_meta, m_record);
-    constexpr std::size_t k_block = std::size_t{4} << 20;
-    if (m_blocks.empty() || m_blocks.back().size() + m_record.size() > m_blocks.back().capacity()) {
-        m_blocks.emplace_back().reserve(std::max(k_block, m_record.size()));
+    const auto n = static_cast<std::uint32_t>(m_record.size()); // RecordWriter::write's framing
+    const std::size_t framed = sizeof n + m_record.size();
+    if (m_blocks.empty() || m_blocks.back().size() + framed > m_blocks.back().capacity()) {
+        m_blocks.emplace_back().reserve(std::max(m_block_bytes, framed));
     }
+    m_blocks.back().append(reinterpret_cast<const char*>(&n), sizeof n);
     m_blocks.back() += m_record;
-    m_sizes.push_back(m_record.size());
+    m_starts.push_back(m_bytes);
+    m_bytes += framed;
 }
 
 void SpoolPart::skip(std::int64_t fid)

@@ -44,11 +44,15 @@ struct SpoolMeta {
 /// records (their cleaned vertices) until then.
 class SpoolPart {
 public:
-    SpoolPart(double tolerance, std::size_t sample_cap);
+    /// `block_bytes`: the size of the blocks its records are kept in (a record larger than that
+    /// gets a block of its own).
+    SpoolPart(double tolerance, std::size_t sample_cap, std::size_t block_bytes = std::size_t{4} << 20);
     /// FeatureSpool::add(); `seq` is the feature's position in the whole input.
     void add(std::uint64_t seq, std::int64_t fid, const Geometry& geometry, std::vector<Problem>& problems);
     /// FeatureSpool::skip().
     void skip(std::int64_t fid);
+    /// The blocks its records are held in so far.
+    std::size_t blocks() const { return m_blocks.size(); }
 
 private:
     friend class FeatureSpool;
@@ -56,10 +60,14 @@ private:
     tiling::VertexSample m_sample;
     SpoolMeta m_meta;                  ///< records, spooled, vertices, the largest feature
     std::vector<std::int64_t> m_fids;  ///< every feature's, spooled or not, in order
-    /// The spooled features' records, one after the other in blocks of about 4 MiB (a block
-    /// never grows by copying what it holds; a record never spans two).
+    std::size_t m_block_bytes;
+    /// The spooled features' records framed as the features file frames them (RecordWriter: a
+    /// 32-bit length, then the record), one after the other in blocks of about m_block_bytes (a
+    /// block never grows by copying what it holds; a record never spans two). Appending hands
+    /// the blocks to the file whole (OutFile::write_block): in memory, without a copy.
     std::vector<std::string> m_blocks;
-    std::vector<std::size_t> m_sizes;  ///< the records' sizes
+    std::vector<std::uint64_t> m_starts; ///< each record's offset in the blocks' concatenation
+    std::uint64_t m_bytes = 0;           ///< the blocks' bytes
     std::string m_record;
 };
 

@@ -17,9 +17,10 @@ namespace {
 /// A file's bytes in chunks that never move: a file grows by a chunk, not by copying what it
 /// holds into a buffer twice as large (a std::string's doubling left up to half of it as slack).
 /// Measured on Andorra x43 (bench/results/REPORT.md, "Huge pages for the heap"): peak -3 MiB
-/// (-6 with the heap in huge pages), time and page faults unchanged. No chunk is larger than
-/// 1 MiB, so every one comes from the heap (app/allocator.hpp). Chunks grow with the file, from
-/// 256 bytes (a tile's small files) to 1 MiB.
+/// (-6 with the heap in huge pages), time and page faults unchanged. No chunk it allocates is
+/// larger than 1 MiB, so every one comes from the heap (app/allocator.hpp). Chunks grow with the
+/// file, from 256 bytes (a tile's small files) to 1 MiB. A block handed over whole (adopt(): the
+/// read's second thread's records, 4 MiB blocks) becomes a chunk as it is.
 ///
 /// Copies share their chunks: a copy that grows writes into its last chunk past the end of the
 /// original, bytes the original never reads (it reads below its own size only).
@@ -38,6 +39,18 @@ public:
             m_size += k;
             bytes.remove_prefix(k);
         }
+    }
+    /// Appends `block`'s bytes by keeping `block` as a chunk of its own: no copy. The chunk is
+    /// full (its capacity its size), so the next append() starts a new one.
+    void adopt(std::string&& block)
+    {
+        if (block.empty()) {
+            return;
+        }
+        const auto held = std::make_shared<std::string>(std::move(block));
+        const std::size_t n = held->size();
+        m_chunks.push_back(Chunk{std::shared_ptr<char[]>(held, held->data()), n, n, m_size});
+        m_size += n;
     }
     std::uint64_t size() const { return m_size; }
     /// Bytes [offset, offset + n), which the caller has checked are within size().
@@ -90,6 +103,7 @@ class MemOutFile : public OutFile {
 public:
     MemOutFile(MemoryStore& store, std::string name) : m_store(store), m_name(std::move(name)) {}
     void write(std::string_view bytes) override { m_data.append(bytes); }
+    void write_block(std::string&& block) override { m_data.adopt(std::move(block)); }
     void commit() override;
     std::uint64_t bytes_written() const override { return m_data.size(); }
 

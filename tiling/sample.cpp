@@ -59,13 +59,23 @@ void VertexSample::keep_kept(std::vector<double>& xs, std::vector<double>& ys) c
     ys.resize(k);
 }
 
+// Each side's vertices are already those kept at its own level: only the side below the
+// higher level is filtered again. Then the later ones are copied after these in one allocation.
 void VertexSample::append(VertexSample&& later)
 {
     m_extent.add(later.m_extent);
     m_vertices += later.m_vertices;
-    m_level = std::max(m_level, later.m_level);
-    keep_kept(m_xs, m_ys);
-    keep_kept(later.m_xs, later.m_ys);
+    const int level = std::max(m_level, later.m_level);
+    if (m_level < level) {
+        m_level = level;
+        keep_kept(m_xs, m_ys);
+    }
+    if (later.m_level < level) {
+        later.m_level = level;
+        later.keep_kept(later.m_xs, later.m_ys);
+    }
+    m_xs.reserve(m_xs.size() + later.m_xs.size());
+    m_ys.reserve(m_ys.size() + later.m_ys.size());
     m_xs.insert(m_xs.end(), later.m_xs.begin(), later.m_xs.end());
     m_ys.insert(m_ys.end(), later.m_ys.begin(), later.m_ys.end());
     later = VertexSample(later.m_cap);

@@ -40,6 +40,9 @@ class OutFile {
 public:
     virtual ~OutFile() = default;
     virtual void write(std::string_view bytes) = 0;
+    /// write(block), for a caller that has no more use for `block`: a file in memory keeps the
+    /// block itself as its next bytes instead of copying it.
+    virtual void write_block(std::string&& block) { write(block); }
     virtual void commit() = 0;
     virtual std::uint64_t bytes_written() const = 0;
 };

@@ -11,10 +11,15 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <filesystem>
+
 namespace trisnap {
 namespace {
 
 using namespace test_records;
+namespace fs = std::filesystem;
 
 TEST(Records, GeometriesAndTileFeaturesRoundTripBitForBit)
 {
@@ -190,15 +195,22 @@ TEST(SpoolPart, AppendedPartGivesTheSequentialSpool)
         }
         return out;
     };
-    auto whole = tiling::make_memory_store();
+    const fs::path dir = fs::temp_directory_path() / ("trisnap-part-" + std::to_string(::getpid()));
+    const auto make_store = [&](bool on_disk) {
+        fs::remove_all(dir);
+        return on_disk ? tiling::make_directory_store(dir.string()) : tiling::make_memory_store();
+    };
     std::vector<std::vector<Problem>> expected_problems(input.size());
     tiling::PlanInput expected_sample;
-    {
+    std::vector<std::string> expected_files[2]; // in memory, on disk (its meta keeps the sample)
+    for (const bool on_disk : {false, true}) {
+        auto whole = make_store(on_disk);
         stitch::FeatureSpool spool(*whole, t, 200, 64);
         for (std::size_t i = 0; i < input.size(); ++i) {
             if (skipped(i)) {
                 spool.skip(input[i].id);
             } else {
+                expected_problems[i].clear();
                 spool.add(i, input[i].id, input[i].geometry, expected_problems[i]);
             }
         }
@@ -206,36 +218,56 @@ TEST(SpoolPart, AppendedPartGivesTheSequentialSpool)
         EXPECT_TRUE(meta.fids_unique);
         EXPECT_GT(meta.sample.level, 0); // the cap of 200 vertices was passed
         expected_sample = std::move(meta.sample);
+        expected_files[on_disk ? 1 : 0] = files(*whole);
     }
     EXPECT_FALSE(expected_problems[40].empty());
     EXPECT_FALSE(expected_problems[100].empty());
-    const std::vector<std::string> expected = files(*whole);
-    for (const std::size_t cut : {std::size_t{0}, std::size_t{41}, std::size_t{100}, input.size() / 2, input.size()}) {
-        SCOPED_TRACE("cut at " + std::to_string(cut));
-        auto store = tiling::make_memory_store();
-        stitch::FeatureSpool spool(*store, t, 200, 64);
-        stitch::SpoolPart part(t, 200);
-        std::vector<std::vector<Problem>> problems(input.size());
-        for (std::size_t i = 0; i < input.size(); ++i) {
-            if (skipped(i)) {
-                i < cut ? spool.skip(input[i].id) : part.skip(input[i].id);
-            } else if (i < cut) {
-                spool.add(i, input[i].id, input[i].geometry, problems[i]);
-            } else {
-                part.add(i, input[i].id, input[i].geometry, problems[i]);
+    // The part is [cut, end): the features after `end` are added after the append, past the
+    // part's bytes. Blocks of 4 MiB hold the part in one; of 64 bytes, one record each.
+    std::size_t blocks_seen = 0;
+    for (const bool on_disk : {false, true}) {
+        for (const std::size_t block : {std::size_t{4} << 20, std::size_t{64}}) {
+            for (const std::size_t cut : {std::size_t{0}, std::size_t{41}, std::size_t{100}, input.size() / 2, input.size()}) {
+                const std::size_t end = cut == 41 ? 90 : input.size();
+                SCOPED_TRACE("cut at " + std::to_string(cut) + ", to " + std::to_string(end) + ", blocks of " +
+                             std::to_string(block) + (on_disk ? ", on disk" : ", in memory"));
+                auto store = make_store(on_disk);
+                const std::vector<std::string>& expected = expected_files[on_disk ? 1 : 0];
+                stitch::FeatureSpool spool(*store, t, 200, 64);
+                stitch::SpoolPart part(t, 200, block);
+                std::vector<std::vector<Problem>> problems(input.size());
+                const auto take = [&](std::size_t i, auto& into) {
+                    if (skipped(i)) {
+                        into.skip(input[i].id);
+                    } else {
+                        into.add(i, input[i].id, input[i].geometry, problems[i]);
+                    }
+                };
+                for (std::size_t i = 0; i < end; ++i) {
+                    i < cut ? take(i, spool) : take(i, part);
+                }
+                blocks_seen = std::max(blocks_seen, part.blocks());
+                spool.append(std::move(part));
+                for (std::size_t i = end; i < input.size(); ++i) {
+                    take(i, spool);
+                }
+                const stitch::SpoolMeta meta = spool.finish();
+                EXPECT_TRUE(meta.fids_unique);
+                const std::vector<std::string> got = files(*store); // compared without printing megabytes
+                for (std::size_t k = 0; k < got.size(); ++k) {
+                    EXPECT_TRUE(got[k] == expected[k]) << "file " << k << ": " << got[k].size() << " bytes, expected " << expected[k].size();
+                }
+                EXPECT_EQ(meta.sample.level, expected_sample.level);
+                EXPECT_EQ(meta.sample.xs, expected_sample.xs);
+                EXPECT_EQ(meta.sample.ys, expected_sample.ys);
+                for (std::size_t i = 0; i < input.size(); ++i) {
+                    EXPECT_EQ(problem_lines(problems[i]), problem_lines(expected_problems[i])) << "feature " << i;
+                }
             }
         }
-        spool.append(std::move(part));
-        const stitch::SpoolMeta meta = spool.finish();
-        EXPECT_TRUE(meta.fids_unique);
-        EXPECT_EQ(files(*store), expected);
-        EXPECT_EQ(meta.sample.level, expected_sample.level);
-        EXPECT_EQ(meta.sample.xs, expected_sample.xs);
-        EXPECT_EQ(meta.sample.ys, expected_sample.ys);
-        for (std::size_t i = 0; i < input.size(); ++i) {
-            EXPECT_EQ(problem_lines(problems[i]), problem_lines(expected_problems[i])) << "feature " << i;
-        }
     }
+    fs::remove_all(dir);
+    EXPECT_GT(blocks_seen, 50u); // the small blocks did split the part
     // A FID repeated across the cut is found as if read in one go.
     auto store = tiling::make_memory_store();
     stitch::FeatureSpool spool(*store, t, 200, 64);

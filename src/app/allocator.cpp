@@ -2,12 +2,14 @@
 
 #include "app/memory.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <chrono>
 #include <climits>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -22,8 +24,9 @@
 namespace trisnap {
 namespace {
 
-namespace fs = std::filesystem;
+HugePageChoice g_choice; // written once, by keep_freed_memory() before any other thread runs
 
+#if defined(__GLIBC__) && !defined(TRISNAP_SANITIZED_MALLOC)
 std::string first_line(const char* path)
 {
     std::ifstream in(path);
@@ -32,7 +35,6 @@ std::string first_line(const char* path)
     return line;
 }
 
-#if defined(__GLIBC__) && !defined(TRISNAP_SANITIZED_MALLOC)
 constexpr std::size_t k_block = std::size_t{16} << 20;  // below the mmap threshold: taken from the heap
 constexpr std::uint64_t k_most = std::uint64_t{1} << 30; // and below the trim threshold (INT_MAX) once freed
 
@@ -70,9 +72,46 @@ bool inside_the_heap(std::uintptr_t from, std::uintptr_t to)
     return false;
 }
 
+double seconds_since(std::chrono::steady_clock::time_point t0)
+{
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// Seconds to touch [at, at + bytes) once per 4 KiB (a write of the byte already there).
+double touch(char* at, std::size_t bytes)
+{
+    const auto t0 = std::chrono::steady_clock::now();
+    for (std::size_t i = 0; i < bytes; i += 4096) {
+        volatile char* c = at + i;
+        *c = *c;
+    }
+    return seconds_since(t0);
+}
+
+/// The probe: in `block` (ours, at least 6 MiB), 512 KiB at a 2 MiB boundary touched in 4 KiB
+/// pages (the time scaled to 2 MiB: a quarter of the cost, ~2.7 ms on the team's VM), then the
+/// next 2 MiB advised for a huge page and touched. False where the kernel refused the advice.
+bool probe_huge_pages(char* block, std::size_t bytes, double& small, double& huge)
+{
+    constexpr std::uintptr_t k_huge = std::uintptr_t{2} << 20;
+    const auto start = (reinterpret_cast<std::uintptr_t>(block) + k_huge - 1) & ~(k_huge - 1);
+    if (start + 2 * k_huge > reinterpret_cast<std::uintptr_t>(block) + bytes) {
+        return false;
+    }
+    char* const small_pages = reinterpret_cast<char*>(start);
+    char* const huge_page = small_pages + k_huge;
+    if (madvise(huge_page, k_huge, MADV_HUGEPAGE) != 0) {
+        return false;
+    }
+    small = 4 * touch(small_pages, k_huge / 4);
+    huge = touch(huge_page, k_huge);
+    return true;
+}
+
 /// The heap grown by `bytes` (blocks malloc'ed and freed again: the heap keeps them in its top,
-/// which is never trimmed) and that range advised for huge pages.
-void advise_huge_heap(std::uint64_t bytes)
+/// which is never trimmed) and that range advised for huge pages where `probe` is false or the
+/// probe in its first block finds them faster.
+void advise_huge_heap(std::uint64_t bytes, bool probe)
 {
     std::vector<void*> blocks;
     blocks.reserve(static_cast<std::size_t>(bytes / k_block) + 1);
@@ -90,8 +129,14 @@ void advise_huge_heap(std::uint64_t bytes)
     const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGE_SIZE));
     const std::uintptr_t from = lo & ~(page - 1); // the page of the first block's header too
     const std::uintptr_t to = hi & ~(page - 1);
-    if (!blocks.empty() && to > from && inside_the_heap(from, to)) {
-        madvise(reinterpret_cast<void*>(from), to - from, MADV_HUGEPAGE); // refused: the heap stays as it was
+    bool advise = !blocks.empty() && to > from && inside_the_heap(from, to);
+    if (advise && probe) {
+        g_choice.why = HugePageChoice::Why::probed;
+        advise = probe_huge_pages(static_cast<char*>(blocks.front()), k_block, g_choice.small_seconds, g_choice.huge_seconds) &&
+                 g_choice.huge_seconds < g_choice.small_seconds;
+    }
+    if (advise) {
+        g_choice.advised = madvise(reinterpret_cast<void*>(from), to - from, MADV_HUGEPAGE) == 0; // refused: the heap stays as it was
     }
     for (void* p : blocks) {
         std::free(p);
@@ -115,41 +160,19 @@ bool a_mapping_starts_at(std::uintptr_t at)
     return false;
 }
 
-bool huge_pages_wanted()
+bool huge_pages_on_request()
 {
-    const char* setting = std::getenv("TRISNAP_HUGE_PAGES");
-    if (setting != nullptr && std::strcmp(setting, "0") == 0) {
-        return false;
-    }
-    const bool forced = setting != nullptr && std::strcmp(setting, "1") == 0;
     return first_line("/sys/kernel/mm/transparent_hugepage/enabled").find("[madvise]") != std::string::npos &&
-           first_line("/proc/sys/vm/overcommit_memory") != "2" && (forced || !free_pages_reported("/sys/bus/virtio/devices"));
+           first_line("/proc/sys/vm/overcommit_memory") != "2";
 }
 #endif
 
 } // namespace
 
-bool free_pages_reported(const std::string& virtio_devices)
-{
-    constexpr std::size_t k_reporting = 5; // VIRTIO_BALLOON_F_REPORTING
-    std::error_code ec;
-    for (fs::directory_iterator it(virtio_devices, ec), end; !ec && it != end; it.increment(ec)) {
-        const fs::path device = it->path();
-        if (first_line((device / "device").c_str()) != "0x0005") { // a memory balloon
-            continue;
-        }
-        const std::string features = first_line((device / "features").c_str());
-        if (features.size() > k_reporting && features[k_reporting] == '1') {
-            return true;
-        }
-    }
-    return false;
-}
-
 void advise_thread_heap()
 {
 #if defined(__GLIBC__) && !defined(TRISNAP_SANITIZED_MALLOC)
-    if (!huge_pages_wanted()) {
+    if (!g_choice.advised) {
         return;
     }
     // glibc's heaps for threads other than the first are mappings of 64 MiB (twice the largest
@@ -174,15 +197,56 @@ void advise_thread_heap()
 
 void keep_freed_memory()
 {
+    const char* setting = std::getenv("TRISNAP_HUGE_PAGES");
+    const bool off = setting != nullptr && std::strcmp(setting, "0") == 0;
+    const bool forced = setting != nullptr && std::strcmp(setting, "1") == 0;
+    if (setting != nullptr && !off && !forced) {
+        g_choice.ignored_setting = setting;
+    }
 #if defined(__GLIBC__) && !defined(TRISNAP_SANITIZED_MALLOC)
     mallopt(M_MMAP_THRESHOLD, 32 * 1024 * 1024);
     mallopt(M_TRIM_THRESHOLD, INT_MAX);
-    if (!huge_pages_wanted()) {
+    if (off) {
+        g_choice.why = HugePageChoice::Why::off_by_env;
         return;
     }
+    g_choice.why = forced ? HugePageChoice::Why::forced_by_env : HugePageChoice::Why::unavailable;
     const std::uint64_t bytes = std::min({k_most, physical_memory() / 8, quarter_of_limit(RLIMIT_DATA), quarter_of_limit(RLIMIT_AS)});
-    advise_huge_heap(bytes);
+    if (!huge_pages_on_request() || bytes < 3 * k_block) {
+        g_choice.why = HugePageChoice::Why::unavailable;
+        return;
+    }
+    advise_huge_heap(bytes, !forced);
+#else
+    g_choice.why = off ? HugePageChoice::Why::off_by_env : HugePageChoice::Why::not_glibc;
 #endif
+}
+
+const HugePageChoice& huge_page_choice() { return g_choice; }
+
+std::string describe(const HugePageChoice& c)
+{
+    const std::string probe = fmt::format("a 2 MiB huge page touched in {:.1f} ms, 4 KiB pages at {:.1f} ms per 2 MiB",
+                                          c.huge_seconds * 1e3, c.small_seconds * 1e3);
+    std::string text;
+    switch (c.why) {
+    case HugePageChoice::Why::not_called: text = "not set up"; break;
+    case HugePageChoice::Why::not_glibc: text = "4 KiB pages (not glibc's malloc)"; break;
+    case HugePageChoice::Why::unavailable: text = "4 KiB pages (the kernel gives no huge pages on request here)"; break;
+    case HugePageChoice::Why::off_by_env: text = "4 KiB pages (TRISNAP_HUGE_PAGES=0)"; break;
+    case HugePageChoice::Why::forced_by_env:
+        text = c.advised ? "huge pages (TRISNAP_HUGE_PAGES=1)" : "4 KiB pages (TRISNAP_HUGE_PAGES=1, but the kernel refused)";
+        break;
+    case HugePageChoice::Why::probed:
+        text = c.huge_seconds > 0 || c.small_seconds > 0
+                   ? fmt::format("{} (probe: {})", c.advised ? "huge pages" : "4 KiB pages", probe)
+                   : "4 KiB pages (the kernel refused the probe's advice)";
+        break;
+    }
+    if (!c.ignored_setting.empty()) {
+        text += fmt::format("; TRISNAP_HUGE_PAGES={} ignored (0 or 1)", c.ignored_setting);
+    }
+    return text;
 }
 
 } // namespace trisnap

@@ -33,31 +33,52 @@ inline constexpr bool k_glibc_malloc = false;
 /// not from a mapping of their own, and the heap's free top is never trimmed: freed memory is
 /// reused, the peak is what was live at the worst moment. Then the heap is grown at once by up
 /// to 1 GiB of address space (not of memory: nothing is touched) and that range advised for
-/// transparent huge pages (MADV_HUGEPAGE): a first touch there faults in 2 MiB, not 4 KiB (the
-/// peak rounds up to them: +1 to 3 % measured). Only where the kernel's THP mode is "madvise" (with "always" every page is huge
-/// already, with "never" none can be), the overcommit policy is not strict (2: the range would
-/// count against it), and a quarter of RLIMIT_DATA and RLIMIT_AS allows it; at most 1/8 of the
-/// memory. Nor where the hypervisor takes the guest's free memory back (free_pages_reported()):
-/// there a huge page the kernel hands out is mostly one the host dropped, and its first touch
-/// waits for the host to back all 2 MiB (measured 2026-12-03 on the team's VM: 5-20 ms a huge
-/// page touched cold, 0.1 GB/s in a touch test, against 2 GB/s in 4 KiB pages; Andorra x43 untiled 12.8 -> 9.5 s,
-/// bench/results/REPORT.md "Huge pages where the host takes free memory back").
-/// TRISNAP_HUGE_PAGES=0 in the environment turns the advice off; =1 gives it even where free
-/// pages are reported (the kernel's mode and the overcommit policy still decide).
+/// transparent huge pages (MADV_HUGEPAGE) where they are faster here: a first touch there
+/// faults in 2 MiB, not 4 KiB (the peak rounds up to them: +1 to 3 % measured). Only where the
+/// kernel's THP mode is "madvise" (with "always" every page is huge already, with "never" none
+/// can be), the overcommit policy is not strict (2: the range would count against it), and a
+/// quarter of RLIMIT_DATA and RLIMIT_AS allows it; at most 1/8 of the memory.
+///
+/// Whether they are faster is measured, not guessed (huge_page_choice()): 512 KiB of the new
+/// heap touched in 4 KiB pages against the next 2 MiB as one huge page. Under a hypervisor the first
+/// touch of a page costs what the host takes to back it, and that differs by machine: on one
+/// of the team's VMs (2026-12-03, 27th session) a cold huge page took 5-20 ms and 2 MiB of
+/// small pages ~1 ms (Andorra x43 untiled 12.8 s advised, 9.5 s not); on the next (28th
+/// session), with the same virtio balloon reporting free pages to the host, 2.7 ms against
+/// 4.7 ms, and two threads on Andorra x43 took 1.95 s advised, 2.22 s not
+/// (bench/results/REPORT.md "Huge pages, measured at start"). The 2.5 MiB touched stay in the
+/// heap, for what is allocated next.
+/// TRISNAP_HUGE_PAGES=0 in the environment turns the advice off, =1 gives it without the probe
+/// (the kernel's mode and the overcommit policy still decide); another value is ignored, and
+/// said so by huge_page_choice().ignored_setting.
 void keep_freed_memory();
 
-/// Whether a virtio memory balloon under `virtio_devices` (/sys/bus/virtio/devices: one
-/// directory per device with its `device` id and `features` bit string) reports free pages to
-/// the host (VIRTIO_BALLOON_F_REPORTING, bit 5): the host then drops free blocks of 2 MiB and up
-/// (the kernel's page_reporting_order) ~2 s after they are freed, and backs them again on their
-/// next touch. False where the directory or its files cannot be read.
-bool free_pages_reported(const std::string& virtio_devices);
+/// What keep_freed_memory() decided about huge pages, and why.
+struct HugePageChoice {
+    enum class Why {
+        not_called,    ///< keep_freed_memory() has not run
+        not_glibc,     ///< another malloc (another C library, AddressSanitizer)
+        unavailable,   ///< THP mode not madvise, strict overcommit, or no room under the limits
+        off_by_env,    ///< TRISNAP_HUGE_PAGES=0
+        forced_by_env, ///< TRISNAP_HUGE_PAGES=1
+        probed,        ///< the probe's times decided
+    };
+    Why why = Why::not_called;
+    bool advised = false;         ///< the heap's top range advised for huge pages
+    double small_seconds = 0;     ///< probed: 2 MiB's worth of 4 KiB pages touched (512 KiB timed, x 4)
+    double huge_seconds = 0;      ///< probed: 2 MiB touched as one huge page
+    std::string ignored_setting;  ///< a TRISNAP_HUGE_PAGES that is neither 0 nor 1 ("" if none)
+};
+const HugePageChoice& huge_page_choice();
+/// One line for the log: "huge pages (probe: a 2 MiB huge page touched in 0.4 ms, 4 KiB pages
+/// at 10.7 ms per 2 MiB)" and the like.
+std::string describe(const HugePageChoice& choice);
 
 /// Call first thing in a thread that grows memory of its own (app/read_phase.cpp): its glibc
 /// heap (a 64 MiB mapping per arena, not the first thread's) advised for transparent huge pages
 /// as keep_freed_memory() advises the main heap, on the same conditions, and made writable up
-/// to ~30 MiB at once. Measured 2026-11-29 on the read's second thread (124 k features of
-/// Andorra x43): 0.49 s without either, 0.41 with the advice, 0.31-0.33 with both
+/// to ~30 MiB at once; only where keep_freed_memory() advised the main heap. Measured
+/// 2026-11-29 on the read's second thread (124 k features of Andorra x43): 0.49 s without either, 0.41 with the advice, 0.31-0.33 with both
 /// (two runs of three; the third 0.46: bench/results/REPORT.md, "The read in two parts").
 void advise_thread_heap();
 

@@ -1,5 +1,7 @@
 #include "app/plan.hpp"
 
+#include "app/allocator.hpp"
+
 #include "app/text.hpp"
 #include "config/errors.hpp"
 #include "io/commit_group.hpp"
@@ -228,6 +230,11 @@ void log_plan(const Plan& plan)
     std::istringstream lines(text.str());
     for (std::string line; std::getline(lines, line);) {
         spdlog::info("{}", line);
+    }
+    const HugePageChoice& heap = huge_page_choice();
+    spdlog::info("memory:    heap in {}", describe(heap));
+    if (!heap.ignored_setting.empty()) {
+        spdlog::warn("TRISNAP_HUGE_PAGES={} is neither 0 nor 1: ignored (huge pages were chosen as without it)", heap.ignored_setting);
     }
 }
 

@@ -79,6 +79,29 @@ TEST_F(CliHabits, VerboseLogsOnStderr)
     EXPECT_EQ(r.out.find("trisnap:"), std::string::npos) << "logs never go to stdout";
 }
 
+// -v says how the heap's pages were chosen; a TRISNAP_HUGE_PAGES that is neither 0 nor 1 is a
+// warning, not an error, and the run goes on as without it.
+TEST_F(CliHabits, HugePagesAreSaidAndAMistypedSettingWarned)
+{
+    RunOutput r = run_trisnap(dir, {"snap", fixture(), dir.path("o.gpkg"), "--tolerance", "0.01", "-v"});
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(std::regex_search(r.err, std::regex(R"((^|\n)trisnap: info: memory:    heap in (huge|4 KiB) pages \()"))) << r.err;
+    EXPECT_EQ(r.err.find("TRISNAP_HUGE_PAGES"), std::string::npos) << r.err;
+    const std::string counts = r.out.substr(0, r.out.find('\n')); // "6 features in, 5 written, ..."
+    EXPECT_NE(counts.find("6 features in, 5 written"), std::string::npos) << r.out;
+    {
+        const ScopedEnv off("TRISNAP_HUGE_PAGES", "0");
+        r = run_trisnap(dir, {"snap", fixture(), dir.path("o.gpkg"), "--tolerance", "0.01", "-v", "--overwrite"});
+        EXPECT_EQ(r.code, 0) << r.err;
+        EXPECT_NE(r.err.find("trisnap: info: memory:    heap in 4 KiB pages (TRISNAP_HUGE_PAGES=0)"), std::string::npos) << r.err;
+    }
+    const ScopedEnv mistyped("TRISNAP_HUGE_PAGES", "yes");
+    r = run_trisnap(dir, {"snap", fixture(), dir.path("o.gpkg"), "--tolerance", "0.01", "--overwrite"});
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("trisnap: warning: TRISNAP_HUGE_PAGES=yes is neither 0 nor 1: ignored"), std::string::npos) << r.err;
+    EXPECT_EQ(r.out.substr(0, r.out.find('\n')), counts); // as without it
+}
+
 TEST_F(CliHabits, ValidateFailsWhereSnapWouldBeforeSnapping)
 {
     const std::string in = dir.path("polygons.gpkg");

@@ -1,15 +1,15 @@
 // keep_freed_memory() (app/allocator.hpp): where the kernel gives transparent huge pages on
 // request, what the process allocates from its heap afterwards lies in a range advised for them
-// (VmFlags "hg" in /proc/self/smaps); TRISNAP_HUGE_PAGES=0 leaves the heap as it was, and so
-// does a hypervisor that takes free pages back, unless TRISNAP_HUGE_PAGES=1. Each test runs in a
-// process of its own (gtest_discover_tests), so the call is that process's first.
+// (VmFlags "hg" in /proc/self/smaps) when TRISNAP_HUGE_PAGES=1, or without it when its probe
+// found a huge page faster to touch than 4 KiB pages; TRISNAP_HUGE_PAGES=0 leaves the heap as
+// it was; another value is ignored and said. Each test runs in a process of its own
+// (gtest_discover_tests), so the call is that process's first.
 #include "app/allocator.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cstdint>
 #include <cstdlib>
-#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -66,9 +66,12 @@ TEST(Allocator, TheHeapIsAdvisedForHugePagesWhereTheKernelGivesThemOnRequest)
     if (!huge_pages_on_request()) {
         GTEST_SKIP() << "this kernel does not give huge pages on request (THP mode not madvise, or strict overcommit)";
     }
-    ::setenv("TRISNAP_HUGE_PAGES", "1", 1); // advised even where the host takes free pages back
+    ::setenv("TRISNAP_HUGE_PAGES", "1", 1); // advised without the probe
     keep_freed_memory();
     ::unsetenv("TRISNAP_HUGE_PAGES");
+    EXPECT_EQ(huge_page_choice().why, HugePageChoice::Why::forced_by_env);
+    EXPECT_TRUE(huge_page_choice().advised) << describe(huge_page_choice());
+    EXPECT_EQ(huge_page_choice().small_seconds, 0.0); // no probe
     // Large blocks come from the heap's top, made after the call; small ones may reuse what the
     // process freed before it (gtest's setup here; almost nothing in the trisnap binary, which
     // calls it first), but once that is used up they come from the top too.
@@ -93,49 +96,45 @@ TEST(Allocator, TheEnvironmentTurnsTheHugePagesOff)
     }
     ::setenv("TRISNAP_HUGE_PAGES", "0", 1);
     keep_freed_memory();
+    EXPECT_EQ(huge_page_choice().why, HugePageChoice::Why::off_by_env);
+    EXPECT_FALSE(huge_page_choice().advised);
     const std::unique_ptr<char[]> block(new char[std::size_t{24} << 20]);
     block[0] = 1;
     EXPECT_FALSE(advised(block.get())) << flags_of(block.get());
     ::unsetenv("TRISNAP_HUGE_PAGES");
 }
 
-TEST(Allocator, NotWhereTheHostTakesFreePagesBackUnlessAsked)
+TEST(Allocator, WithoutTheSettingTheProbeDecides)
 {
     if (!k_glibc_malloc || !huge_pages_on_request()) {
         GTEST_SKIP() << "no huge pages to give on this machine";
     }
     ::unsetenv("TRISNAP_HUGE_PAGES");
     keep_freed_memory();
+    const HugePageChoice& choice = huge_page_choice();
+    ASSERT_EQ(choice.why, HugePageChoice::Why::probed) << describe(choice);
+    EXPECT_GT(choice.small_seconds, 0.0);
+    EXPECT_GT(choice.huge_seconds, 0.0);
+    EXPECT_EQ(choice.advised, choice.huge_seconds < choice.small_seconds) << describe(choice);
     const std::unique_ptr<char[]> block(new char[std::size_t{24} << 20]);
     block[0] = 1;
-    EXPECT_EQ(advised(block.get()), !free_pages_reported("/sys/bus/virtio/devices")) << flags_of(block.get());
+    EXPECT_EQ(advised(block.get()), choice.advised) << flags_of(block.get()) << "; " << describe(choice);
+    EXPECT_NE(describe(choice).find(choice.advised ? "huge pages (probe: a 2 MiB huge page touched in" : "4 KiB pages (probe: a 2 MiB huge page touched in"),
+              std::string::npos)
+        << describe(choice);
 }
 
-/// A virtio device directory as /sys/bus/virtio/devices holds it.
-void device(const std::filesystem::path& root, const std::string& name, const std::string& id, const std::string& features)
+TEST(Allocator, ASettingOtherThanZeroOrOneIsIgnoredAndSaid)
 {
-    std::filesystem::create_directories(root / name);
-    std::ofstream(root / name / "device") << id << "\n";
-    std::ofstream(root / name / "features") << features << "\n";
-}
-
-TEST(Allocator, FreePagesAreReportedByABalloonWithTheReportingFeature)
-{
-    const std::filesystem::path root = std::filesystem::path(::testing::TempDir()) / "trisnap_virtio_devices";
-    std::filesystem::remove_all(root);
-    std::string reporting(64, '0');
-    reporting[5] = '1';
-    std::string all_but = std::string(64, '1');
-    all_but[5] = '0';
-    EXPECT_FALSE(free_pages_reported((root / "absent").string()));
-    device(root, "virtio0", "0x0002", reporting); // a block device: its bit 5 means something else
-    device(root, "virtio1", "0x0005", all_but);   // a balloon without reporting
-    EXPECT_FALSE(free_pages_reported(root.string()));
-    device(root, "virtio2", "0x0005", "0110"); // cut short: no bit 5
-    EXPECT_FALSE(free_pages_reported(root.string()));
-    device(root, "virtio3", "0x0005", "01100101" + std::string(56, '0')); // the team's VM
-    EXPECT_TRUE(free_pages_reported(root.string()));
-    std::filesystem::remove_all(root);
+    ::setenv("TRISNAP_HUGE_PAGES", "yes", 1);
+    keep_freed_memory();
+    ::unsetenv("TRISNAP_HUGE_PAGES");
+    const HugePageChoice& choice = huge_page_choice();
+    EXPECT_EQ(choice.ignored_setting, "yes");
+    EXPECT_NE(describe(choice).find("TRISNAP_HUGE_PAGES=yes ignored"), std::string::npos) << describe(choice);
+    if (k_glibc_malloc && huge_pages_on_request()) {
+        EXPECT_EQ(choice.why, HugePageChoice::Why::probed) << describe(choice); // as without it
+    }
 }
 
 } // namespace

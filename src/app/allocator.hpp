@@ -58,7 +58,7 @@ struct HugePageChoice {
     enum class Why {
         not_called,    ///< keep_freed_memory() has not run
         not_glibc,     ///< another malloc (another C library, AddressSanitizer)
-        unavailable,   ///< THP mode not madvise, strict overcommit, or no room under the limits
+        unavailable,   ///< THP mode not madvise, strict overcommit, or no room for the heap under the limits
         off_by_env,    ///< TRISNAP_HUGE_PAGES=0
         forced_by_env, ///< TRISNAP_HUGE_PAGES=1
         probed,        ///< the probe's times decided
@@ -70,8 +70,8 @@ struct HugePageChoice {
     std::string ignored_setting;  ///< a TRISNAP_HUGE_PAGES that is neither 0 nor 1 ("" if none)
 };
 const HugePageChoice& huge_page_choice();
-/// One line for the log: "huge pages (probe: a 2 MiB huge page touched in 0.4 ms, 4 KiB pages
-/// at 10.7 ms per 2 MiB)" and the like.
+/// One line for the log: "huge pages (probe: a 2 MiB huge page touched in 0.1 ms, 4 KiB pages
+/// at 5.0 ms per 2 MiB)" and the like.
 std::string describe(const HugePageChoice& choice);
 
 /// Call first thing in a thread that grows memory of its own (app/read_phase.cpp): its glibc

@@ -30,8 +30,8 @@ namespace trisnap::stitch {
 /// What a tile costs in memory: the engine's bytes per input vertex and a fixed part per tile.
 /// Set before issue 11's lean engine, from single tiles' peak RSS. The engine now takes 128-272 B
 /// a vertex on the shared layers, but up to ~1,550 in a collapse cascade (a ring of 120,000
-/// vertices at t = a tenth of its radius). 1,100 stays: well above every shared layer's figure, still below that cascade's,
-/// until the model sees the tolerance's collapse pressure (bench/results/REPORT.md, "Huge pages
+/// vertices at t = a tenth of its radius). 1,100 stays: well above every shared layer's figure,
+/// still below that cascade's, until the model sees the tolerance's collapse pressure (bench/results/REPORT.md, "Huge pages
 /// where the host takes free memory back", its paragraph on memory in a collapse cascade).
 struct MemoryModel {
     double bytes_per_vertex = 1100;

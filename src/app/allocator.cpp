@@ -72,11 +72,6 @@ bool inside_the_heap(std::uintptr_t from, std::uintptr_t to)
     return false;
 }
 
-double seconds_since(std::chrono::steady_clock::time_point t0)
-{
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 /// Seconds to touch [at, at + bytes) once per 4 KiB, by writing: as fresh memory is first
 /// touched (a read first would map the zero page and fault again on the write).
 double touch(char* at, std::size_t bytes)
@@ -85,7 +80,7 @@ double touch(char* at, std::size_t bytes)
     for (std::size_t i = 0; i < bytes; i += 4096) {
         *static_cast<volatile char*>(at + i) = 0;
     }
-    return seconds_since(t0);
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 /// The probe: in `block` (ours, at least 6 MiB), 512 KiB at a 2 MiB boundary touched in 4 KiB
@@ -133,9 +128,12 @@ bool advise_huge_heap(std::uint64_t bytes, bool probe)
     const bool grown = !blocks.empty() && to > from && inside_the_heap(from, to);
     bool advise = grown;
     if (advise && probe) {
-        g_choice.why = HugePageChoice::Why::probed;
-        advise = probe_huge_pages(static_cast<char*>(blocks.front()), k_block, g_choice.small_seconds, g_choice.huge_seconds) &&
-                 g_choice.huge_seconds < g_choice.small_seconds;
+        // A refused probe leaves the reason as it was (unavailable): the range would be refused too.
+        advise = probe_huge_pages(static_cast<char*>(blocks.front()), k_block, g_choice.small_seconds, g_choice.huge_seconds);
+        if (advise) {
+            g_choice.why = HugePageChoice::Why::probed;
+            advise = g_choice.huge_seconds < g_choice.small_seconds;
+        }
     }
     if (advise) {
         g_choice.advised = madvise(reinterpret_cast<void*>(from), to - from, MADV_HUGEPAGE) == 0; // refused: the heap stays as it was
@@ -227,8 +225,6 @@ const HugePageChoice& huge_page_choice() { return g_choice; }
 
 std::string describe(const HugePageChoice& c)
 {
-    const std::string probe = fmt::format("a 2 MiB huge page touched in {:.1f} ms, 4 KiB pages at {:.1f} ms per 2 MiB",
-                                          c.huge_seconds * 1e3, c.small_seconds * 1e3);
     std::string text;
     switch (c.why) {
     case HugePageChoice::Why::not_called: text = "not set up"; break;
@@ -241,9 +237,8 @@ std::string describe(const HugePageChoice& c)
         text = c.advised ? "huge pages (TRISNAP_HUGE_PAGES=1)" : "4 KiB pages (TRISNAP_HUGE_PAGES=1, but the kernel refused)";
         break;
     case HugePageChoice::Why::probed:
-        text = c.huge_seconds > 0 || c.small_seconds > 0
-                   ? fmt::format("{} (probe: {})", c.advised ? "huge pages" : "4 KiB pages", probe)
-                   : "4 KiB pages (the kernel refused the probe's advice)";
+        text = fmt::format("{} (probe: a 2 MiB huge page touched in {:.1f} ms, 4 KiB pages at {:.1f} ms per 2 MiB)",
+                           c.advised ? "huge pages" : "4 KiB pages", c.huge_seconds * 1e3, c.small_seconds * 1e3);
         break;
     }
     if (!c.ignored_setting.empty()) {

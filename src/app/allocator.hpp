@@ -41,16 +41,16 @@ inline constexpr bool k_glibc_malloc = false;
 ///
 /// Whether they are faster is measured, not guessed (huge_page_choice()): 512 KiB of the new
 /// heap touched in 4 KiB pages against the next 2 MiB as one huge page. Under a hypervisor the first
-/// touch of a page costs what the host takes to back it, and that differs by machine: on one
-/// of the team's VMs (2026-12-03, 27th session) a cold huge page took 5-20 ms and 2 MiB of
-/// small pages ~1 ms (Andorra x43 untiled 12.8 s advised, 9.5 s not); on the next (28th
-/// session), with the same virtio balloon reporting free pages to the host, 2.7 ms against
-/// 4.7 ms, and two threads on Andorra x43 took 1.95 s advised, 2.22 s not
-/// (bench/results/REPORT.md "Huge pages, measured at start"). The 2.5 MiB touched stay in the
-/// heap, for what is allocated next.
+/// touch of a page costs what the host takes to back it, and that differs by machine: on the
+/// team's VM of REPORT.md's twentieth session a cold huge page took 5-20 ms and 2 MiB of small
+/// pages ~1 ms (Andorra x43 untiled 12.8 s advised, 9.5 s not); on the next one, with the same
+/// virtio balloon reporting free pages to the host, a touch test's first pass took 2.7 ms a huge
+/// page against 4.7 ms per 2 MiB of small pages, and two threads on Andorra x43 took 1.95 s
+/// advised, 2.20 s not (medians of 3; bench/results/REPORT.md "Huge pages, measured at start").
+/// The 2.5 MiB touched stay in the heap, for what is allocated next.
 /// TRISNAP_HUGE_PAGES=0 in the environment turns the advice off, =1 gives it without the probe
 /// (the kernel's mode and the overcommit policy still decide); another value is ignored, and
-/// said so by huge_page_choice().ignored_setting.
+/// said so by huge_page_choice().ignored_setting (a warning from every command: setup_logging()).
 void keep_freed_memory();
 
 /// What keep_freed_memory() decided about huge pages, and why.
@@ -58,10 +58,10 @@ struct HugePageChoice {
     enum class Why {
         not_called,    ///< keep_freed_memory() has not run
         not_glibc,     ///< another malloc (another C library, AddressSanitizer)
-        unavailable,   ///< THP mode not madvise, strict overcommit, or no room for the heap under the limits
+        unavailable,   ///< THP mode not madvise, strict overcommit, no room for the heap under the limits, or the advice refused
         off_by_env,    ///< TRISNAP_HUGE_PAGES=0
         forced_by_env, ///< TRISNAP_HUGE_PAGES=1
-        probed,        ///< the probe's times decided
+        probed,        ///< the probe's times decided (advised: huge_seconds < small_seconds)
     };
     Why why = Why::not_called;
     bool advised = false;         ///< the heap's top range advised for huge pages

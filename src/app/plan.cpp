@@ -231,11 +231,7 @@ void log_plan(const Plan& plan)
     for (std::string line; std::getline(lines, line);) {
         spdlog::info("{}", line);
     }
-    const HugePageChoice& heap = huge_page_choice();
-    spdlog::info("memory:    heap in {}", describe(heap));
-    if (!heap.ignored_setting.empty()) {
-        spdlog::warn("TRISNAP_HUGE_PAGES={} is neither 0 nor 1: ignored (huge pages were chosen as without it)", heap.ignored_setting);
-    }
+    spdlog::info("memory:    heap in {}", describe(huge_page_choice()));
 }
 
 /// No output may be, or replace, a file of the input dataset (compared by real path and

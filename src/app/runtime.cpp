@@ -1,6 +1,8 @@
 // Process-wide settings shared by the commands: logging and thread limits.
 #include "app/command.hpp"
 
+#include "app/allocator.hpp"
+
 #include <cpl_conv.h>
 #include <cpl_error.h>
 #include <spdlog/sinks/stdout_sinks.h>
@@ -47,6 +49,9 @@ void setup_logging(int verbose, int quiet)
     CPLSetErrorHandler(log_gdal_message);
     if (verbose >= 2 && quiet == 0 && !CPLGetConfigOption("CPL_DEBUG", nullptr)) {
         CPLSetConfigOption("CPL_DEBUG", "ON"); // -vv: GDAL's own debug lines
+    }
+    if (const std::string& setting = huge_page_choice().ignored_setting; !setting.empty()) {
+        spdlog::warn("TRISNAP_HUGE_PAGES={} is neither 0 nor 1: ignored (huge pages were chosen as without it)", setting);
     }
 }
 

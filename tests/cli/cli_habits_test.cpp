@@ -80,7 +80,7 @@ TEST_F(CliHabits, VerboseLogsOnStderr)
 }
 
 // -v says how the heap's pages were chosen; a TRISNAP_HUGE_PAGES that is neither 0 nor 1 is a
-// warning, not an error, and the run goes on as without it.
+// warning from any command, not an error, and the run goes on as without it.
 TEST_F(CliHabits, HugePagesAreSaidAndAMistypedSettingWarned)
 {
     RunOutput r = run_trisnap(dir, {"snap", fixture(), dir.path("o.gpkg"), "--tolerance", "0.01", "-v"});
@@ -100,6 +100,9 @@ TEST_F(CliHabits, HugePagesAreSaidAndAMistypedSettingWarned)
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("trisnap: warning: TRISNAP_HUGE_PAGES=yes is neither 0 nor 1: ignored"), std::string::npos) << r.err;
     EXPECT_EQ(r.out.substr(0, r.out.find('\n')), counts); // as without it
+    r = run_trisnap(dir, {"info", fixture()}); // every command says it, not only snap
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("trisnap: warning: TRISNAP_HUGE_PAGES=yes is neither 0 nor 1: ignored"), std::string::npos) << r.err;
 }
 
 TEST_F(CliHabits, ValidateFailsWhereSnapWouldBeforeSnapping)

@@ -49,4 +49,12 @@ std::uint64_t peak_rss()
     return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024; // Linux reports KiB
 }
 
+double process_cpu_seconds()
+{
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    auto seconds = [](const timeval& t) { return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_usec) * 1e-6; };
+    return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
+
 } // namespace trisnap

@@ -28,11 +28,12 @@
 
 namespace trisnap {
 
-/// Time and peak resident memory (so far) at the end of one phase.
+/// Time, CPU time and peak resident memory (so far) at the end of one phase.
 struct PhaseRecord {
     std::string name;
     double seconds = 0;
     std::uint64_t peak_rss = 0;
+    double cpu_seconds = 0; ///< of all the process's threads during the phase
 };
 
 /// One input layer's share of a run, with the same accounting:

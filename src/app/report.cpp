@@ -59,11 +59,16 @@ ordered_json timings_json(const RunResult& r, double total)
 {
     const SnapStats& s = r.stats;
     ordered_json phases = ordered_json::object();
+    ordered_json cpu = ordered_json::object();
     for (const PhaseRecord& p : r.phases) {
         phases[p.name] = p.seconds;
+        cpu[p.name] = p.cpu_seconds;
     }
+    // CPU: every thread's user + system time, per phase and for the process so far (its start,
+    // GDAL's drivers loaded, is in no phase). A phase's CPU over its seconds is how many cores
+    // it kept busy.
     return {{"read", r.seconds_read}, {"snap", r.seconds_snap}, {"write", r.seconds_write}, {"total", total},
-            {"phases", phases},
+            {"phases", phases}, {"cpu_phases", cpu}, {"cpu_process", process_cpu_seconds()},
             {"engine", {{"triangulate", s.seconds_triangulate}, {"snap", s.seconds_snap},
                         {"label", s.seconds_label}, {"extract", s.seconds_extract}}}};
 }

@@ -61,13 +61,14 @@ template <class F>
 void RunPhases::phase(const char* name, F&& body)
 {
     const auto start = Clock::now();
+    const double cpu = process_cpu_seconds();
     m_interrupt.set_activity(activity_of(name));
     m_interrupt.check();
     body();
     // A signal the phase's own checks did not see (the spool and the seam check have none
     // between their passes) is named after this phase, not the next.
     m_interrupt.check_at(name);
-    m_result.phases.push_back(PhaseRecord{name, since(start), peak_rss()});
+    m_result.phases.push_back(PhaseRecord{name, since(start), peak_rss(), process_cpu_seconds() - cpu});
     m_result.spool_bytes = std::max(m_result.spool_bytes, m_work.bytes());
     spdlog::info("{}: {:.2f} s, peak memory {}, work files {}", name, m_result.phases.back().seconds,
                  format_size(peak_rss()), format_size(m_work.bytes()));

@@ -129,6 +129,37 @@ TEST(CliTiling, ALostSharedBoundaryIsReportedAlikeTiledAndUntiled)
     }
 }
 
+// The report times each phase's CPU (every thread's) beside its wall time: a phase's own share,
+// not the process's total so far, and never more than its two threads can spend.
+TEST(CliTiling, ReportGivesEachPhasesCpu)
+{
+    if (!exists(andorra())) GTEST_SKIP() << "data set absent: " << andorra();
+    TempDir dir;
+    const std::string out = dir.path("out.gpkg");
+    const RunOutput r = run_trisnap(dir, {"snap", andorra(), out, "--tolerance", "1e-6", "--tile-size", "0.01", "-q",
+                                          "--threads", "2", "--report", out + ".json"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto timings = read_json(out + ".json")["timings_s"];
+    const auto& wall = timings["phases"];
+    const auto& cpu = timings["cpu_phases"];
+    ASSERT_EQ(cpu.size(), wall.size()) << timings;
+    ASSERT_EQ(cpu.size(), 5u) << timings;
+    double sum = 0;
+    for (const auto& [name, seconds] : wall.items()) {
+        ASSERT_TRUE(cpu.contains(name)) << name;
+        const double c = cpu[name].get<double>();
+        EXPECT_GE(c, 0.0) << name;
+        // Two threads at most (the tiles' arena, the second reader, the writer thread), with
+        // the kernel's accounting granularity.
+        EXPECT_LE(c, 2 * seconds.get<double>() + 0.02) << name << ": " << timings;
+        sum += c;
+    }
+    EXPECT_GT(cpu["snap"].get<double>(), 0.5 * wall["snap"].get<double>()) << timings;
+    const double process = timings["cpu_process"].get<double>();
+    EXPECT_LE(sum, process + 1e-9) << timings;
+    EXPECT_GT(process, cpu["snap"].get<double>()) << timings;
+}
+
 // The stitch phase reports tiles checked of the tiles there are, in --json-progress as on the bar:
 // a total from its start (the report's tiles when no seam merged any), an ETA once some are done,
 // and every tile done at the end.

@@ -1,5 +1,6 @@
 #include "io/gpkg_rtree.hpp"
 
+#include "io/external_sort.hpp"
 #include "io/gdal_errors.hpp"
 #include "io/io_error.hpp"
 #include "io/sql_quote.hpp"
@@ -7,8 +8,12 @@
 #include <sqlite3.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cfloat>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <functional>
 #include <cstring>
 #include <limits>
 #include <utility>
@@ -114,6 +119,126 @@ std::vector<std::vector<RtreeEntry>> pack_level(std::vector<RtreeEntry> items, s
         }
     }
     return nodes;
+}
+
+/// The order of sort_by_centres(items, .., centre_x, centre_y): the level's first sort, for the
+/// runs on disk.
+struct ByCentreX {
+    bool operator()(const RtreeEntry& p, const RtreeEntry& q) const
+    {
+        const double px = centre_x(p), qx = centre_x(q);
+        if (px != qx) {
+            return px < qx;
+        }
+        const double py = centre_y(p), qy = centre_y(q);
+        if (py != qy) {
+            return py < qy;
+        }
+        return p.id < q.id;
+    }
+};
+
+/// A row of the parent or rowid table: (node or FID, node number); keys are unique.
+struct KeyValue {
+    std::int64_t key = 0;
+    std::int64_t value = 0;
+};
+struct ByKey {
+    bool operator()(const KeyValue& p, const KeyValue& q) const { return p.key < q.key; }
+};
+
+/// The nodes of one level in order, on disk: each as its cell count (u16) and its cells.
+class NodeFile {
+public:
+    using Fail = std::function<void(const std::string&)>;
+    NodeFile(std::filesystem::path path, Fail fail) : m_path(std::move(path)), m_fail(std::move(fail))
+    {
+        m_file = std::fopen(m_path.c_str(), "w+b");
+        if (m_file == nullptr) {
+            m_fail("cannot create " + m_path.string() + ": " + std::strerror(errno));
+        }
+    }
+    ~NodeFile()
+    {
+        if (m_file != nullptr) {
+            std::fclose(m_file);
+        }
+        std::error_code ec;
+        std::filesystem::remove(m_path, ec);
+    }
+    NodeFile(const NodeFile&) = delete;
+    NodeFile& operator=(const NodeFile&) = delete;
+
+    void write(const std::vector<RtreeEntry>& cells)
+    {
+        const auto count = static_cast<std::uint16_t>(cells.size());
+        if (std::fwrite(&count, sizeof count, 1, m_file) != 1 ||
+            std::fwrite(cells.data(), sizeof(RtreeEntry), cells.size(), m_file) != cells.size()) {
+            m_fail("cannot write " + m_path.string() + ": " + std::strerror(errno));
+        }
+    }
+    /// After the last write(): read from the start.
+    void rewind()
+    {
+        if (std::fflush(m_file) != 0 || std::fseek(m_file, 0, SEEK_SET) != 0) {
+            m_fail("cannot write " + m_path.string() + ": " + std::strerror(errno));
+        }
+    }
+    void read(std::vector<RtreeEntry>& cells)
+    {
+        std::uint16_t count = 0;
+        if (std::fread(&count, sizeof count, 1, m_file) != 1) {
+            m_fail("cannot read " + m_path.string() + (std::ferror(m_file) ? std::string(": ") + std::strerror(errno) : ": cut short"));
+        }
+        cells.resize(count);
+        if (std::fread(cells.data(), sizeof(RtreeEntry), count, m_file) != count) {
+            m_fail("cannot read " + m_path.string() + ": cut short");
+        }
+    }
+
+private:
+    std::filesystem::path m_path;
+    Fail m_fail;
+    std::FILE* m_file = nullptr;
+};
+
+/// pack_level() on items that come in its first order (ByCentreX) from `next`: `per_slice` of
+/// them at a time sorted by y and cut into nodes, each given to `emit(cells, index in the level)`.
+/// The same nodes as pack_level(), holding one slice at a time.
+template <class Next, class Emit>
+std::uint64_t pack_level_streamed(std::uint64_t n, std::size_t max_cells, Next&& next, Emit&& emit)
+{
+    if (n == 0) {
+        std::vector<RtreeEntry> none;
+        emit(none, std::uint64_t{0});
+        return 1;
+    }
+    const std::uint64_t leaves = (n + max_cells - 1) / max_cells;
+    auto slices = static_cast<std::uint64_t>(std::ceil(std::sqrt(static_cast<double>(leaves))));
+    while (slices * slices < leaves) {
+        ++slices;
+    }
+    const std::uint64_t per_slice = slices * max_cells;
+    std::vector<RtreeEntry> slice;
+    slice.reserve(static_cast<std::size_t>(std::min(per_slice, n)));
+    std::vector<RtreeEntry> cells;
+    std::uint64_t k = 0;
+    RtreeEntry e;
+    for (;;) {
+        slice.clear();
+        while (slice.size() < per_slice && next(e)) {
+            slice.push_back(e);
+        }
+        if (slice.empty()) {
+            return k;
+        }
+        sort_by_centres(slice, 0, slice.size(), centre_y, centre_x);
+        for (std::size_t at = 0; at < slice.size(); at += max_cells) {
+            const auto it = slice.begin() + static_cast<std::ptrdiff_t>(at);
+            cells.assign(it, it + static_cast<std::ptrdiff_t>(std::min(max_cells, slice.size() - at)));
+            emit(cells, k++);
+        }
+    }
 }
 
 RtreeEntry bounds(const std::vector<RtreeEntry>& cells, std::int64_t id)
@@ -235,6 +360,152 @@ void insert_rows(sqlite3* db, const IndexTarget& target, const std::string& tabl
             one.run();
         }
     }
+}
+
+/// pack_rtree()'s tree written: the root, the nodes 2.. in number order, their parents, the
+/// rowid rows in FID order.
+void write_packed_tree(sqlite3* db, const IndexTarget& target, const std::string& rtree, std::size_t node_size,
+                       const PackedRtree& tree)
+{
+    const auto node_blob = [&](std::size_t k) { return rtree_node_blob(tree.nodes[k], tree.depth, k == 0, node_size); };
+    {
+        Prepared root(db, "UPDATE " + sql_identifier(rtree + "_node") + " SET data = ? WHERE nodeno = 1", target);
+        root.bind(1, node_blob(0));
+        root.run();
+    }
+    const std::size_t nodes = tree.nodes.size() - 1; // below the root: nodes[1..]
+    insert_rows(db, target, rtree + "_node", nodes, [&](Prepared& p, int at, std::size_t i) {
+        p.bind(at, static_cast<std::int64_t>(i + 2));
+        p.bind(at + 1, node_blob(i + 1));
+    });
+    insert_rows(db, target, rtree + "_parent", nodes, [&](Prepared& p, int at, std::size_t i) {
+        p.bind(at, static_cast<std::int64_t>(i + 2));
+        p.bind(at + 1, tree.parent[i + 1]);
+    });
+    // The leaves' cells are the FIDs: the rowid table maps each to its leaf, in FID order.
+    std::vector<std::pair<std::int64_t, std::int64_t>> leaf_of;
+    for (std::size_t k = tree.first_leaf; k < tree.nodes.size(); ++k) {
+        for (const RtreeEntry& cell : tree.nodes[k]) {
+            leaf_of.emplace_back(cell.id, static_cast<std::int64_t>(k) + 1);
+        }
+    }
+    std::sort(leaf_of.begin(), leaf_of.end());
+    insert_rows(db, target, rtree + "_rowid", leaf_of.size(), [&](Prepared& p, int at, std::size_t i) {
+        p.bind(at, leaf_of[i].first);
+        p.bind(at + 1, leaf_of[i].second);
+    });
+}
+
+using BoxSorter = ExternalSorter<RtreeEntry, ByCentreX>;
+using RowSorter = ExternalSorter<KeyValue, ByKey>;
+
+/// The tree of the boxes `level0` holds (finished, in ByCentreX order), written as the in-memory
+/// path writes pack_rtree()'s: the root, the nodes 2.. in number order, their parents, the rowid
+/// rows in FID order. Levels are packed from the leaves up; each level's nodes go to a file, the
+/// next level's items (their boxes), the parent rows and the rowid rows to sorters of at most
+/// `capacity` records in memory. The numbers are known before any node is made: every level
+/// but the last slice of each is cut into full nodes, so a level of n items has ceil(n / C) nodes.
+void write_spilled_tree(sqlite3* db, const IndexTarget& target, const std::string& rtree, std::size_t node_size,
+                        std::size_t max_cells, std::unique_ptr<BoxSorter> level0, const std::filesystem::path& scratch,
+                        const std::string& stem, std::size_t capacity, const NodeFile::Fail& fail)
+{
+    const std::uint64_t n = level0->size();
+    std::vector<std::uint64_t> sizes{n == 0 ? 1 : (n + max_cells - 1) / max_cells};
+    while (sizes.back() > 1) {
+        sizes.push_back((sizes.back() + max_cells - 1) / max_cells);
+    }
+    const std::size_t top = sizes.size() - 1;
+    std::vector<std::int64_t> first(sizes.size());
+    first[top] = 1;
+    for (std::size_t l = top; l-- > 0;) {
+        first[l] = first[l + 1] + static_cast<std::int64_t>(sizes[l + 1]);
+    }
+    const auto name = [&](const std::string& what) { return stem + "-" + what; };
+    RowSorter rowids(scratch, name("rowid"), capacity, ByKey{}, fail);
+    std::vector<std::unique_ptr<RowSorter>> parents(top); // parents[l]: of the nodes of level l
+    std::vector<std::unique_ptr<NodeFile>> files(top + 1);
+    std::unique_ptr<BoxSorter> items = std::move(level0);
+    for (std::size_t l = 0; l <= top; ++l) {
+        if (l > 0) {
+            parents[l - 1] = std::make_unique<RowSorter>(scratch, name("parent-" + std::to_string(l - 1)), capacity, ByKey{}, fail);
+        }
+        std::unique_ptr<BoxSorter> above =
+            l < top ? std::make_unique<BoxSorter>(scratch, name("level-" + std::to_string(l + 1)), capacity, ByCentreX{}, fail) : nullptr;
+        files[l] = std::make_unique<NodeFile>(scratch / (name("nodes-" + std::to_string(l)) + ".bin"), fail);
+        const std::uint64_t count = l == 0 ? n : sizes[l - 1];
+        const std::uint64_t made = pack_level_streamed(count, max_cells, [&](RtreeEntry& e) { return items->next(e); },
+                                                       [&](std::vector<RtreeEntry>& cells, std::uint64_t k) {
+            const std::int64_t number = first[l] + static_cast<std::int64_t>(k);
+            if (above && !cells.empty()) {
+                above->add(bounds(cells, static_cast<std::int64_t>(k)));
+            }
+            for (RtreeEntry& c : cells) {
+                if (l == 0) {
+                    rowids.add(KeyValue{c.id, number});
+                } else {
+                    c.id += first[l - 1];
+                    parents[l - 1]->add(KeyValue{c.id, number});
+                }
+            }
+            files[l]->write(cells);
+        });
+        if (made != sizes[l]) {
+            fail("level " + std::to_string(l) + " of the tree has " + std::to_string(made) + " nodes, not " + std::to_string(sizes[l]));
+        }
+        items = std::move(above);
+        if (items) {
+            items->finish();
+        }
+    }
+    std::vector<RtreeEntry> cells;
+    files[top]->rewind();
+    files[top]->read(cells);
+    {
+        Prepared root(db, "UPDATE " + sql_identifier(rtree + "_node") + " SET data = ? WHERE nodeno = 1", target);
+        root.bind(1, rtree_node_blob(cells, static_cast<int>(top), true, node_size));
+        root.run();
+    }
+    // Nodes 2.. are the levels below the root from the top down, each in its order.
+    const auto below_root = static_cast<std::size_t>(first[0] - 1 + static_cast<std::int64_t>(sizes[0]) - 1);
+    std::size_t level = top;
+    std::uint64_t left = 0; // nodes of `level` still to read
+    insert_rows(db, target, rtree + "_node", below_root, [&](Prepared& p, int at, std::size_t i) {
+        while (left == 0) {
+            --level;
+            left = sizes[level];
+            files[level]->rewind();
+        }
+        files[level]->read(cells);
+        --left;
+        p.bind(at, static_cast<std::int64_t>(i + 2));
+        p.bind(at + 1, rtree_node_blob(cells, static_cast<int>(top), false, node_size));
+    });
+    files.clear();
+    for (std::unique_ptr<RowSorter>& s : parents) {
+        s->finish();
+    }
+    level = top;
+    insert_rows(db, target, rtree + "_parent", below_root, [&](Prepared& p, int at, std::size_t i) {
+        KeyValue row;
+        while (!parents[level - 1]->next(row)) {
+            parents[--level].reset();
+        }
+        if (row.key != static_cast<std::int64_t>(i + 2)) {
+            fail("node " + std::to_string(row.key) + " came where node " + std::to_string(i + 2) + " was due");
+        }
+        p.bind(at, row.key);
+        p.bind(at + 1, row.value);
+    });
+    parents.clear();
+    rowids.finish();
+    insert_rows(db, target, rtree + "_rowid", static_cast<std::size_t>(n), [&](Prepared& p, int at, std::size_t) {
+        KeyValue row;
+        if (!rowids.next(row)) {
+            fail("the rowid rows ended early");
+        }
+        p.bind(at, row.key);
+        p.bind(at + 1, row.value);
+    });
 }
 
 /// SQL on the GeoPackage through GDAL (its SQLite connection, inside the writer's transaction):
@@ -392,14 +663,46 @@ void GpkgIndexBuilder::add(std::int64_t fid, const OGRGeometry* geometry)
     add(fid, box);
 }
 
+struct GpkgIndexBuilder::Spill {
+    std::string stem;
+    std::unique_ptr<BoxSorter> boxes;
+};
+
+GpkgIndexBuilder::GpkgIndexBuilder(std::size_t max_entries, std::filesystem::path scratch, std::string path)
+    : m_max_entries(max_entries), m_scratch(std::move(scratch)), m_path(std::move(path))
+{
+}
+
+GpkgIndexBuilder::~GpkgIndexBuilder() = default;
+
 void GpkgIndexBuilder::add(std::int64_t fid, const OGREnvelope& box)
 {
     if (m_fallback) {
         return;
     }
+    if (m_spill) {
+        m_spill->boxes->add(rtree_entry(fid, box));
+        return;
+    }
     if (m_entries.size() >= m_max_entries) {
-        m_fallback = true;
+        if (m_scratch.empty()) {
+            m_fallback = true;
+            std::vector<RtreeEntry>().swap(m_entries);
+            return;
+        }
+        static std::atomic<unsigned> builders{0}; // several layers of one OUT share the directory
+        m_spill = std::make_unique<Spill>();
+        m_spill->stem = "rtree-" + std::to_string(builders++);
+        const std::string path = m_path;
+        m_spill->boxes = std::make_unique<BoxSorter>(m_scratch, m_spill->stem + "-boxes", m_max_entries, ByCentreX{},
+                                                     [path](const std::string& m) {
+                                                         throw io_error(path, "", "cannot write the spatial index: " + m);
+                                                     });
+        for (const RtreeEntry& e : m_entries) {
+            m_spill->boxes->add(e);
+        }
         std::vector<RtreeEntry>().swap(m_entries);
+        m_spill->boxes->add(rtree_entry(fid, box));
         return;
     }
     m_entries.push_back(rtree_entry(fid, box));
@@ -426,38 +729,16 @@ void GpkgIndexBuilder::write(GDALDataset& dataset, OGRLayer& layer, const std::s
         target.fail("SQLite made an R-tree node of " + std::to_string(node_size) + " bytes");
     }
     const std::size_t max_cells = std::min(k_max_cells, (static_cast<std::size_t>(node_size) - 4) / k_cell_bytes);
-    const PackedRtree tree = pack_rtree(std::move(m_entries), max_cells);
-    m_entries = {};
-
-    const auto node_blob = [&](std::size_t k) {
-        return rtree_node_blob(tree.nodes[k], tree.depth, k == 0, static_cast<std::size_t>(node_size));
-    };
-    {
-        Prepared root(db, "UPDATE " + sql_identifier(rtree + "_node") + " SET data = ? WHERE nodeno = 1", target);
-        root.bind(1, node_blob(0));
-        root.run();
+    if (m_spill) {
+        m_spill->boxes->on_failure([&](const std::string& m) { target.fail(m); });
+        m_spill->boxes->finish();
+        write_spilled_tree(db, target, rtree, static_cast<std::size_t>(node_size), max_cells, std::move(m_spill->boxes), m_scratch,
+                           m_spill->stem, std::max<std::size_t>(m_max_entries / 4, 1), [&](const std::string& m) { target.fail(m); });
+        m_spill.reset();
+    } else {
+        write_packed_tree(db, target, rtree, static_cast<std::size_t>(node_size), pack_rtree(std::move(m_entries), max_cells));
+        m_entries = {};
     }
-    const std::size_t nodes = tree.nodes.size() - 1; // below the root: nodes[1..]
-    insert_rows(db, target, rtree + "_node", nodes, [&](Prepared& p, int at, std::size_t i) {
-        p.bind(at, static_cast<std::int64_t>(i + 2));
-        p.bind(at + 1, node_blob(i + 1));
-    });
-    insert_rows(db, target, rtree + "_parent", nodes, [&](Prepared& p, int at, std::size_t i) {
-        p.bind(at, static_cast<std::int64_t>(i + 2));
-        p.bind(at + 1, tree.parent[i + 1]);
-    });
-    // The leaves' cells are the FIDs: the rowid table maps each to its leaf, in FID order.
-    std::vector<std::pair<std::int64_t, std::int64_t>> leaf_of;
-    for (std::size_t k = tree.first_leaf; k < tree.nodes.size(); ++k) {
-        for (const RtreeEntry& cell : tree.nodes[k]) {
-            leaf_of.emplace_back(cell.id, static_cast<std::int64_t>(k) + 1);
-        }
-    }
-    std::sort(leaf_of.begin(), leaf_of.end());
-    insert_rows(db, target, rtree + "_rowid", leaf_of.size(), [&](Prepared& p, int at, std::size_t i) {
-        p.bind(at, leaf_of[i].first);
-        p.bind(at + 1, leaf_of[i].second);
-    });
     for (const std::string& trigger : rtree_triggers(table, column, layer.GetFIDColumn(), rtree)) {
         sql.run(trigger);
     }

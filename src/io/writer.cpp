@@ -237,7 +237,9 @@ void LayerWriter::delete_layer(const std::string& name)
 void LayerWriter::create_layer(Target& t, OGRLayer& source, std::vector<std::string> options)
 {
     if (bulk_loads_index(m_driver_name, options)) {
-        t.index = std::make_unique<GpkgIndexBuilder>(m_options.index_boxes);
+        // Above the box budget the boxes are sorted in runs on disk, in the scratch directory
+        // beside OUT's temporary file (removed with it).
+        t.index = std::make_unique<GpkgIndexBuilder>(m_options.index_boxes, m_temp.path() / k_scratch, m_options.path);
     }
     const std::string name = m_options.layer_name.empty() ? source.GetName() : m_options.layer_name;
     const StringList list(options);

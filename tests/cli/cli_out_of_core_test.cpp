@@ -81,6 +81,42 @@ TEST_F(OutOfCore, PeakStaysUnderTheLimitAndBytesEqualTheInMemoryRun)
     EXPECT_TRUE(file_bytes(out) == reference()) << "out-of-core bytes differ from the in-memory run";
 }
 
+// Above the spatial index's box budget (a thirty-second of the limit: 349,525 boxes under
+// 256MiB) the writer sorts the boxes in runs on disk and packs the same tree: eight copies of
+// Jakarta's buildings (435,456 polygons) out of core give the in-memory run's bytes (GDAL used
+// to build such an index itself, in another layout and ~6 us a feature), within the limit, and
+// leave nothing but OUT beside it.
+TEST(OutOfCoreIndex, AboveTheBoxBudgetTheIndexIsSortedOnDiskAndTheBytesStayTheSame)
+{
+    if (!exists(jakarta())) {
+        GTEST_SKIP() << "data set absent: " << jakarta();
+    }
+    TempDir dir;
+    const std::string layer = dir.path("eight.gpkg");
+    const std::string command = std::string("'") + TRISNAP_MAKE_LARGE_LAYER_EXE + "' '" + jakarta() + "' '" + layer +
+                                "' --polygons 435456 --layer building >/dev/null";
+    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+    fs::create_directory(dir.path("memory"));
+    fs::create_directory(dir.path("limited"));
+    const std::string memory = dir.path("memory/out.gpkg");
+    const std::string limited = dir.path("limited/out.gpkg");
+    const RunOutput a = run_trisnap(dir, {"snap", layer, memory, "--tolerance", "0.1", "-q"});
+    ASSERT_EQ(a.code, 0) << a.err;
+    const RunOutput b = run_trisnap(dir, {"snap", layer, limited, "--tolerance", "0.1", "--memory-limit", "256MiB", "--threads", "2",
+                                          "-q", "--report", dir.path("limited.json")});
+    ASSERT_EQ(b.code, 0) << b.err;
+    const nlohmann::json report = read_json(dir.path("limited.json"));
+    EXPECT_EQ(report["counts"]["written"].get<int>(), 435456);
+    EXPECT_GT(report["counts"]["written"].get<double>(), 256.0 * 1024 * 1024 / 32 / 24) << "the boxes must exceed the budget";
+    EXPECT_LE(report["peak_memory_mb"].get<double>(), 256.0);
+    EXPECT_TRUE(file_bytes(limited) == file_bytes(memory)) << "the index sorted on disk changed the bytes";
+    std::vector<std::string> left;
+    for (const auto& entry : fs::recursive_directory_iterator(dir.path("limited"))) {
+        left.push_back(entry.path().filename().string());
+    }
+    EXPECT_EQ(left, std::vector<std::string>{"out.gpkg"}) << "scratch or work files left beside OUT";
+}
+
 // Killed at the start of the spool phase (the layer is spooled), during the snap phase (some
 // tiles done), at the start of the write phase (every tile done): --resume finishes each.
 TEST_F(OutOfCore, KilledInThreePhasesAndResumedGivesTheSameBytes)

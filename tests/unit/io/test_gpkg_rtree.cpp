@@ -11,6 +11,9 @@
 #include <ogrsf_frmts.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <memory>
 #include <random>
@@ -331,24 +334,46 @@ TEST(GpkgIndex, EditsThroughGdalKeepTheIndexInStep)
     }
 }
 
-TEST(GpkgIndex, BeyondItsBoxBudgetGdalBuildsTheIndex)
+/// Each R-tree table's rows in order, as text.
+std::string rtree_rows(const std::string& path)
+{
+    auto ds = open(path, false);
+    if (!ds) {
+        return "<cannot open>";
+    }
+    return text(*ds, "SELECT group_concat(nodeno || ':' || hex(data)) FROM rtree_parcels_geom_node") + "|" +
+           text(*ds, "SELECT group_concat(nodeno || ':' || parentnode) FROM rtree_parcels_geom_parent") + "|" +
+           text(*ds, "SELECT group_concat(rowid || ':' || nodeno) FROM rtree_parcels_geom_rowid");
+}
+
+// Above its box budget the writer sorts the boxes in runs on disk (here 100 boxes a run; the
+// parent and rowid rows 25 a run, so their merges take more than one pass) and packs the same
+// tree level by level: the file is the one the in-memory packing writes, byte for byte, and
+// its scratch files are gone.
+TEST(GpkgIndex, BeyondItsBoxBudgetTheSameTreeIsPackedOnDisk)
 {
     test::ScratchDir dir;
-    const std::string ours = (dir.path() / "fallback.gpkg").string();
+    const std::string ours = (dir.path() / "spilled.gpkg").string();
     const std::string bulk = (dir.path() / "bulk.gpkg").string();
     const std::string gdal = (dir.path() / "gdal.gpkg").string();
-    write_squares(ours, 800, {}, 100);
-    write_squares(bulk, 800, {}, std::size_t{1} << 26);
-    write_gdal_reference(gdal, 800);
-    expect_index_like_gdals(ours, gdal, 798);
-    // GDAL's build, not the bulk load: its node table is GDAL's node for node, and the packed
-    // tree's (full nodes) is another.
-    const auto nodes = [](const std::string& path) {
-        auto ds = open(path, false);
-        return ds ? text(*ds, "SELECT group_concat(hex(data)) FROM rtree_parcels_geom_node") : std::string();
-    };
-    EXPECT_EQ(nodes(ours), nodes(gdal));
-    EXPECT_NE(nodes(ours), nodes(bulk));
+    write_squares(ours, 8000, {}, 100);
+    write_squares(bulk, 8000, {}, std::size_t{1} << 26);
+    write_gdal_reference(gdal, 8000);
+    expect_index_like_gdals(ours, gdal, 7998);
+    const std::string rows = rtree_rows(ours);
+    EXPECT_EQ(rows, rtree_rows(bulk));
+    EXPECT_NE(rows, rtree_rows(gdal)) << "packed, not GDAL's insertions";
+    std::ifstream a(ours, std::ios::binary);
+    std::ifstream b(bulk, std::ios::binary);
+    const std::string bytes_a((std::istreambuf_iterator<char>(a)), std::istreambuf_iterator<char>());
+    const std::string bytes_b((std::istreambuf_iterator<char>(b)), std::istreambuf_iterator<char>());
+    EXPECT_GT(bytes_a.size(), 100000u);
+    EXPECT_TRUE(bytes_a == bytes_b) << "the same file under any box budget";
+    std::size_t left = 0;
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(dir.path())) {
+        left += entry.is_regular_file() ? 1 : 0;
+    }
+    EXPECT_EQ(left, 3u) << "only the three files written";
 }
 
 TEST(GpkgIndex, NoIndexWhenAskedForNone)
@@ -378,13 +403,13 @@ TEST(GpkgIndex, AnEmptyLayerGetsAnEmptyIndex)
 
 /// n squares written to a new GeoPackage through OGR without an index, then the index written
 /// by a GpkgIndexBuilder.
-void write_indexed_by_builder(const std::string& path, int n)
+void write_indexed_by_builder(const std::string& path, int n, std::size_t max_entries = std::size_t{1} << 26)
 {
     GDALAllRegister();
     GDALDatasetUniquePtr ds(GetGDALDriverManager()->GetDriverByName("GPKG")->Create(path.c_str(), 0, 0, 0, GDT_Unknown, nullptr));
     const char* no_index[] = {"SPATIAL_INDEX=NO", nullptr};
     OGRLayer* layer = ds->CreateLayer("parcels", nullptr, wkbPolygon, const_cast<char**>(no_index));
-    GpkgIndexBuilder builder(std::size_t{1} << 26);
+    GpkgIndexBuilder builder(max_entries);
     EXPECT_EQ(ds->StartTransaction(), OGRERR_NONE);
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> at(0, 1000);
@@ -424,6 +449,21 @@ TEST(GpkgIndex, EveryRowGoesInAcrossTheBatches)
     OGREnvelope box;
     some->GetGeometryRef()->getEnvelope(&box);
     EXPECT_EQ(fids_in(*ds->GetLayer(0), box.MinX, box.MinY, box.MaxX, box.MaxY).count(7LL * 12345 + 3), 1u);
+}
+
+// Without a scratch directory (the builder used alone), GDAL builds the index above the budget.
+TEST(GpkgIndex, BeyondItsBoxBudgetWithoutScratchGdalBuildsTheIndex)
+{
+    test::ScratchDir dir;
+    const std::string ours = (dir.path() / "fallback.gpkg").string();
+    const std::string gdal = (dir.path() / "gdal.gpkg").string();
+    write_indexed_by_builder(ours, 800, 100);
+    auto ds = open(ours, false);
+    ASSERT_TRUE(ds);
+    EXPECT_EQ(text(*ds, "SELECT rtreecheck('rtree_parcels_geom')"), "ok");
+    EXPECT_EQ(text(*ds, "SELECT count(*) FROM rtree_parcels_geom"), "800");
+    // GDAL's insertions leave nodes part full; the packed tree's are full but the last of each slice.
+    EXPECT_GT(std::stoi(text(*ds, "SELECT count(*) FROM rtree_parcels_geom_node")), 800 / 51 + 2);
 }
 
 // The writer thread's write (app/write_phase.cpp): the geometry is lent, not given. After each

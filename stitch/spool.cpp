@@ -27,16 +27,18 @@ bool unique_across_runs(tiling::WorkStore& store, std::size_t runs, std::vector<
         return true;
     }
     std::vector<std::unique_ptr<tiling::InFile>> files;
+    std::vector<std::unique_ptr<tiling::BufferedReader>> readers; // 16 KiB each: 2,048 FIDs a read
     using Head = std::pair<std::int64_t, std::size_t>;
     std::priority_queue<Head, std::vector<Head>, std::greater<>> heap;
     auto pull = [&](std::size_t k) {
         std::int64_t v = 0;
-        if (files[k]->read(reinterpret_cast<char*>(&v), sizeof v) == sizeof v) {
+        if (readers[k]->read(reinterpret_cast<char*>(&v), sizeof v) == sizeof v) {
             heap.emplace(v, k);
         }
     };
     for (std::size_t k = 0; k < runs; ++k) {
         files.push_back(store.open(fid_run(k)));
+        readers.push_back(std::make_unique<tiling::BufferedReader>(*files.back(), std::size_t{16} << 10));
         pull(k);
     }
     std::size_t next_in_buffer = 0;

@@ -325,6 +325,33 @@ bool RecordReader::fill(std::size_t n)
     return m_size >= n;
 }
 
+std::size_t BufferedReader::read(char* out, std::size_t n)
+{
+    std::size_t got = 0;
+    while (got < n) {
+        if (m_pos == m_size) {
+            if (n - got >= m_room) { // a large read goes straight to the file
+                const std::size_t k = m_file.read(out + got, n - got);
+                if (k == 0) {
+                    break;
+                }
+                got += k;
+                continue;
+            }
+            m_size = m_file.read(m_data.get(), m_room);
+            m_pos = 0;
+            if (m_size == 0) {
+                break;
+            }
+        }
+        const std::size_t k = std::min(n - got, m_size - m_pos);
+        std::memcpy(out + got, m_data.get() + m_pos, k);
+        m_pos += k;
+        got += k;
+    }
+    return got;
+}
+
 bool RecordReader::next(std::string& record)
 {
     if (!fill(sizeof(std::uint32_t))) {

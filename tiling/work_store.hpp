@@ -98,6 +98,26 @@ private:
     OutFile& m_file;
 };
 
+/// An InFile read through a buffer: small reads without a system call each (a directory
+/// store's read() is one; the write phase reads records.bin 16 bytes a feature: on a
+/// paravirtualised VM that was 1.2 s of 2.6 in one million features' write phase).
+class BufferedReader {
+public:
+    explicit BufferedReader(InFile& file, std::size_t buffer = std::size_t{64} << 10)
+        : m_file(file), m_data(std::make_unique_for_overwrite<char[]>(buffer)), m_room(buffer)
+    {
+    }
+    /// Up to n bytes at the current position: fewer only at the end of the file.
+    std::size_t read(char* out, std::size_t n);
+
+private:
+    InFile& m_file;
+    std::unique_ptr<char[]> m_data;
+    std::size_t m_room;
+    std::size_t m_size = 0;
+    std::size_t m_pos = 0;
+};
+
 class RecordReader {
 public:
     explicit RecordReader(InFile& file, std::size_t buffer = 1 << 20) : m_file(file), m_capacity(buffer) {}

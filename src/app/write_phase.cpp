@@ -37,21 +37,14 @@ Problem feature_problem(std::uint32_t layer, std::int64_t fid, ProblemCode code,
     return p;
 }
 
-// records.bin, one entry at a time.
+// records.bin, one entry at a time (read through a buffer).
 class RecordLog {
 public:
-    explicit RecordLog(const tiling::WorkStore& store) : m_file(store.open(k_records_file)) {}
+    explicit RecordLog(const tiling::WorkStore& store) : m_file(store.open(k_records_file)), m_in(*m_file) {}
     bool next(RecordEntry& e)
     {
         char buffer[RecordEntry::k_bytes];
-        std::size_t got = 0;
-        while (got < sizeof buffer) {
-            const std::size_t k = m_file->read(buffer + got, sizeof buffer - got);
-            if (k == 0) {
-                break;
-            }
-            got += k;
-        }
+        const std::size_t got = m_in.read(buffer, sizeof buffer);
         if (got == 0) {
             return false;
         }
@@ -64,6 +57,7 @@ public:
 
 private:
     std::unique_ptr<tiling::InFile> m_file;
+    tiling::BufferedReader m_in;
 };
 
 /// While a layer is read again for its attributes only (no feature of it passes through with

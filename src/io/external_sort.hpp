@@ -52,6 +52,19 @@ public:
     ExternalSorter(const ExternalSorter&) = delete;
     ExternalSorter& operator=(const ExternalSorter&) = delete;
 
+    /// Records to sort taken whole (before any add()): no copy of what a caller held already.
+    void take(std::vector<T>&& records)
+    {
+        if (m_buffer.empty()) {
+            m_count += records.size();
+            m_buffer = std::move(records);
+        } else {
+            for (const T& r : records) {
+                add(r);
+            }
+            std::vector<T>().swap(records);
+        }
+    }
     void add(const T& record)
     {
         if (m_buffer.size() >= m_capacity) {

@@ -93,34 +93,6 @@ void sort_by_centres(std::vector<RtreeEntry>& items, std::size_t first, std::siz
     }
 }
 
-/// One level of Sort-Tile-Recursive: the items cut into nodes of at most max_cells.
-std::vector<std::vector<RtreeEntry>> pack_level(std::vector<RtreeEntry> items, std::size_t max_cells)
-{
-    std::vector<std::vector<RtreeEntry>> nodes;
-    const std::size_t n = items.size();
-    if (n == 0) {
-        nodes.emplace_back();
-        return nodes;
-    }
-    const std::size_t leaves = (n + max_cells - 1) / max_cells;
-    auto slices = static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(leaves))));
-    while (slices * slices < leaves) {
-        ++slices;
-    }
-    const std::size_t per_slice = slices * max_cells;
-    sort_by_centres(items, 0, n, centre_x, centre_y);
-    nodes.reserve(leaves + slices);
-    for (std::size_t start = 0; start < n; start += per_slice) {
-        const std::size_t end = std::min(n, start + per_slice);
-        sort_by_centres(items, start, end, centre_y, centre_x);
-        for (std::size_t at = start; at < end; at += max_cells) {
-            const auto it = items.begin() + static_cast<std::ptrdiff_t>(at);
-            nodes.emplace_back(it, it + static_cast<std::ptrdiff_t>(std::min(max_cells, end - at)));
-        }
-    }
-    return nodes;
-}
-
 /// The order of sort_by_centres(items, .., centre_x, centre_y): the level's first sort, for the
 /// runs on disk.
 struct ByCentreX {
@@ -202,9 +174,11 @@ private:
     std::FILE* m_file = nullptr;
 };
 
-/// pack_level() on items that come in its first order (ByCentreX) from `next`: `per_slice` of
-/// them at a time sorted by y and cut into nodes, each given to `emit(cells, index in the level)`.
-/// The same nodes as pack_level(), holding one slice at a time.
+/// One level of Sort-Tile-Recursive on items that come from `next` sorted by (centre x, centre y,
+/// id): ceil(sqrt(P)) slices of P = ceil(n / max_cells) nodes' worth, each sorted by (centre y,
+/// centre x, id) and cut into nodes of at most max_cells (the last of a slice may hold fewer),
+/// each given to `emit(cells, its index in the level)`. Holds one slice at a time; returns the
+/// nodes made (no items: one empty node).
 template <class Next, class Emit>
 std::uint64_t pack_level_streamed(std::uint64_t n, std::size_t max_cells, Next&& next, Emit&& emit)
 {
@@ -239,6 +213,25 @@ std::uint64_t pack_level_streamed(std::uint64_t n, std::size_t max_cells, Next&&
             emit(cells, k++);
         }
     }
+}
+
+/// One level in memory: the items sorted, then packed as above.
+std::vector<std::vector<RtreeEntry>> pack_level(std::vector<RtreeEntry> items, std::size_t max_cells)
+{
+    sort_by_centres(items, 0, items.size(), centre_x, centre_y);
+    std::vector<std::vector<RtreeEntry>> nodes;
+    nodes.reserve((items.size() + max_cells - 1) / max_cells + 1);
+    std::size_t at = 0;
+    pack_level_streamed(items.size(), max_cells,
+                        [&](RtreeEntry& e) {
+                            if (at == items.size()) {
+                                return false;
+                            }
+                            e = items[at++];
+                            return true;
+                        },
+                        [&](std::vector<RtreeEntry>& cells, std::uint64_t) { nodes.push_back(cells); });
+    return nodes;
 }
 
 RtreeEntry bounds(const std::vector<RtreeEntry>& cells, std::int64_t id)
@@ -698,10 +691,8 @@ void GpkgIndexBuilder::add(std::int64_t fid, const OGREnvelope& box)
                                                      [path](const std::string& m) {
                                                          throw io_error(path, "", "cannot write the spatial index: " + m);
                                                      });
-        for (const RtreeEntry& e : m_entries) {
-            m_spill->boxes->add(e);
-        }
-        std::vector<RtreeEntry>().swap(m_entries);
+        m_spill->boxes->take(std::move(m_entries)); // the first run, spilled by the next add
+        m_entries = {};
         m_spill->boxes->add(rtree_entry(fid, box));
         return;
     }

@@ -9,8 +9,8 @@
 #    bench/results/compare_smoke.json (< 60 s); fails when a tool fails or the table lacks a key;
 #  - bench_handoff once on the same sample (bench/results/handoff_smoke.json, < 1 s);
 #  - bench/threads --quick: one and two threads end to end on the same sample (< 2 s);
-#  - bench_write on Andorra, GeoPackage rows and GDAL's path, one iteration each, and the spatial
-#    index's packing of 20,000 boxes (< 5 s);
+#  - bench_write on Andorra, GeoPackage rows and GDAL's path, the rows with the index sorted on
+#    disk, one iteration each, and the spatial index's packing of 20,000 boxes (< 5 s);
 # Fails when a binary is missing, when a run fails, or when a benchmark reports an error other
 # than an absent data set.
 #   BENCH_ENGINE=path BENCH_PIPELINE=path BENCH_COMPARE_TOOLS=path bench/run_smoke.sh   (default: newest of build/{bench,release,dev})
@@ -165,7 +165,7 @@ PY
 # when a feature is refused, the count differs or the rows path was not taken).
 write_bench="$(find_binary bench_write "${BENCH_WRITE:-}")"
 out="$root/bench/results/write_smoke.json"
-timeout 120 "$write_bench" --benchmark_filter='Write/(rows|gdal)/andorra|PackRtree/20000' --benchmark_min_time=0.01 \
+timeout 120 "$write_bench" --benchmark_filter='Write/(rows|gdal|rows-index-on-disk)/andorra|PackRtree/20000' --benchmark_min_time=0.01 \
   --benchmark_format=console --benchmark_out="$out" --benchmark_out_format=json \
   || { echo "run_smoke: bench_write failed (exit $?)" >&2; exit 1; }
 check_results "$out"

@@ -42,12 +42,12 @@ std::uint64_t reserved_margin(std::uint64_t memory_limit);
 /// cache (bytes) is set by apply_gdal_budget().
 std::size_t sample_vertices(std::uint64_t memory_limit);
 std::size_t fid_buffer(std::uint64_t memory_limit);
-/// Feature boxes the GeoPackage writer keeps to bulk load OUT's spatial index (24 bytes each,
-/// io/gpkg_rtree.hpp): 1/32 of a limit, else 2^26; beyond them GDAL builds the index, whose node
-/// layout differs: an out-of-core run with more features than that writes other index bytes
-/// than an in-memory run (1/64 failed the out-of-core byte-equality tests on their 256 MiB run).
-/// The packing holds the boxes about twice over; that is inside the limit's margin on the tests'
-/// layers (their peak stays under it), not a bound proven for every layer.
+/// Feature boxes the GeoPackage writer keeps in memory to bulk load OUT's spatial index (24
+/// bytes each, io/gpkg_rtree.hpp): 1/32 of a limit, else 2^26; beyond them the boxes are sorted
+/// in runs on disk and the same tree is packed from their merge (the same bytes). The in-memory
+/// packing holds the boxes about twice over, the on-disk one about twice the budget; that is
+/// inside the limit's margin on the tests' layers (their peak stays under it), not a bound
+/// proven for every layer.
 std::size_t index_boxes(std::uint64_t memory_limit);
 std::uint64_t gdal_cache_bytes(std::uint64_t memory_limit);
 

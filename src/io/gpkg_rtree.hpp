@@ -79,14 +79,12 @@ public:
     /// A feature written with this FID whose non-empty geometry has this box. Throws io_error
     /// naming OUT when a run cannot be written to the scratch directory (a full disk).
     void add(std::int64_t fid, const OGREnvelope& box);
-    /// Whether the boxes went to disk (above the budget, with a scratch directory).
-    bool spilled() const { return m_spill != nullptr; }
 
     /// Creates the index of `layer` (a table in `dataset`, inside its open transaction): the
     /// R-tree table filled (its rows bound to statements prepared once on GDAL's own SQLite
     /// connection), its triggers, the extension row. Where the dataset does not hand out its
-    /// connection, GDAL builds the index as above the box budget. Throws io_error naming `path`,
-    /// its message ending with `outcome` (what was left at OUT).
+    /// connection, GDAL builds the index (as above the box budget without a scratch directory).
+    /// Throws io_error naming `path`, its message ending with `outcome` (what was left at OUT).
     void write(GDALDataset& dataset, OGRLayer& layer, const std::string& path, const std::string& outcome);
 
 private:

@@ -41,7 +41,8 @@ struct WriteOptions {
     /// Missing entries are false.
     std::vector<bool> renumber;
     /// A new GeoPackage layer's spatial index is bulk loaded from the features' boxes, kept in
-    /// memory (24 bytes each) up to this many; beyond, GDAL builds it (slower, bounded memory).
+    /// memory (24 bytes each) up to this many; beyond, they are sorted in runs on disk (OUT's
+    /// scratch directory) and the same tree is packed from their merge (io/gpkg_rtree.hpp).
     std::size_t index_boxes = std::size_t{1} << 26;
     /// A new GeoPackage layer takes its features as rows encoded by the caller where it can
     /// (io/gpkg_rows.hpp; rows()); false: every feature through GDAL (tests compare the two).

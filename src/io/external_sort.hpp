@@ -244,7 +244,9 @@ private:
         }
         T record{};
         const std::filesystem::path merged = write_run(static_cast<std::size_t>(count), [&] {
-            pop(record);
+            if (!pop(record)) {
+                m_fail("a run in " + m_directory.string() + " is shorter than it was written");
+            }
             return record;
         });
         m_sources.clear();

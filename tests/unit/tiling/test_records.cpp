@@ -280,5 +280,42 @@ TEST(SpoolPart, AppendedPartGivesTheSequentialSpool)
     EXPECT_FALSE(spool.finish().fids_unique);
 }
 
+
+// BufferedReader: a file read back in pieces of any size (one byte, a record's 16, more than the
+// buffer at once) through buffers smaller and larger than the pieces gives its bytes in order,
+// fewer only at the end; in memory and on disk alike.
+TEST(BufferedReader, PiecesOfAnySizeGiveTheFileInOrder)
+{
+    std::string bytes(100003, '\0');
+    for (std::size_t i = 0; i < bytes.size(); ++i) {
+        bytes[i] = static_cast<char>((i * 131 + i / 7) & 0xff);
+    }
+    const fs::path dir = fs::temp_directory_path() / ("trisnap-buffered-" + std::to_string(::getpid()));
+    for (const bool on_disk : {false, true}) {
+        fs::remove_all(dir);
+        const auto store = on_disk ? tiling::make_directory_store(dir.string()) : tiling::make_memory_store();
+        store->put("f.bin", bytes);
+        for (const std::size_t buffer : {std::size_t{1}, std::size_t{10}, std::size_t{4096}, std::size_t{1} << 20}) {
+            for (const std::size_t piece : {std::size_t{1}, std::size_t{16}, std::size_t{5000}}) {
+                const auto file = store->open("f.bin");
+                tiling::BufferedReader in(*file, buffer);
+                std::string got;
+                std::string chunk(piece, '\0');
+                for (;;) {
+                    const std::size_t k = in.read(chunk.data(), piece);
+                    got.append(chunk, 0, k);
+                    if (k < piece) {
+                        break;
+                    }
+                }
+                EXPECT_TRUE(got == bytes) << "on disk " << on_disk << ", buffer " << buffer << ", pieces of " << piece
+                                          << ": " << got.size() << " bytes";
+                EXPECT_EQ(in.read(chunk.data(), piece), 0u) << "stays at its end";
+            }
+        }
+    }
+    fs::remove_all(dir);
+}
+
 } // namespace
 } // namespace trisnap

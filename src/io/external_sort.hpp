@@ -52,18 +52,12 @@ public:
     ExternalSorter(const ExternalSorter&) = delete;
     ExternalSorter& operator=(const ExternalSorter&) = delete;
 
-    /// Records to sort taken whole (before any add()): no copy of what a caller held already.
+    /// Records to sort taken whole, before any add(): no copy of what a caller held already (a
+    /// buffer beyond the capacity becomes the first run at the next add()).
     void take(std::vector<T>&& records)
     {
-        if (m_buffer.empty()) {
-            m_count += records.size();
-            m_buffer = std::move(records);
-        } else {
-            for (const T& r : records) {
-                add(r);
-            }
-            std::vector<T>().swap(records);
-        }
+        m_count = records.size();
+        m_buffer = std::move(records);
     }
     void add(const T& record)
     {

@@ -429,7 +429,7 @@ void write_spilled_tree(sqlite3* db, const IndexTarget& target, const std::strin
         const std::uint64_t made = pack_level_streamed(count, max_cells, [&](RtreeEntry& e) { return items->next(e); },
                                                        [&](std::vector<RtreeEntry>& cells, std::uint64_t k) {
             const std::int64_t number = first[l] + static_cast<std::int64_t>(k);
-            if (above && !cells.empty()) {
+            if (above) {
                 above->add(bounds(cells, static_cast<std::int64_t>(k)));
             }
             for (RtreeEntry& c : cells) {

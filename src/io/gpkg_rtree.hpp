@@ -61,7 +61,8 @@ std::string rtree_node_blob(const std::vector<RtreeEntry>& cells, int depth, boo
 /// same way): the index's rows are the ones the in-memory packing writes, in the same order, so
 /// OUT has the same bytes under any --memory-limit. Memory stays within about twice the box
 /// budget. Without a scratch directory, above the budget write() asks GDAL to build the index
-/// (its CreateSpatialIndex(), the slower insertion path: ~7 us a feature here).
+/// (its CreateSpatialIndex(), the slower insertion path: ~6 us a feature here, measured on 1 M
+/// and 435 k features).
 class GpkgIndexBuilder {
 public:
     /// `scratch`: where the runs go (created when needed; empty: none); `path`: OUT, for errors.

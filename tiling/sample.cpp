@@ -37,6 +37,13 @@ void VertexSample::add(double x, double y)
     if (!kept(x, y)) {
         return;
     }
+    if (m_xs.size() == m_xs.capacity()) {
+        // Doubled, but never past the cap (and the one vertex over it that raises the level):
+        // the sample holds at most its 16 bytes a vertex, not twice that after a doubling.
+        const std::size_t room = std::min(std::max<std::size_t>(2 * m_xs.capacity(), 1024), m_cap + 1);
+        m_xs.reserve(std::max(room, m_xs.size() + 1));
+        m_ys.reserve(std::max(room, m_ys.size() + 1));
+    }
     m_xs.push_back(x);
     m_ys.push_back(y);
     while (m_xs.size() > m_cap && m_level < 63) {
@@ -59,30 +66,34 @@ void VertexSample::keep_kept(std::vector<double>& xs, std::vector<double>& ys) c
     ys.resize(k);
 }
 
-// Each side's vertices are already those kept at its own level: only the side below the
-// higher level is filtered again. Then the later ones are copied after these in one allocation.
+// Each side's vertices are already those kept at its own level. The level is raised (both
+// sides filtered) until the two together fit the cap, before they are put together: the same
+// level and vertices as filtering after (a level keeps a subset of the level below), without
+// holding up to twice the cap on the way. Then the later ones are copied after these.
 void VertexSample::append(VertexSample&& later)
 {
     m_extent.add(later.m_extent);
     m_vertices += later.m_vertices;
-    const int level = std::max(m_level, later.m_level);
-    if (m_level < level) {
-        m_level = level;
-        keep_kept(m_xs, m_ys);
-    }
-    if (later.m_level < level) {
-        later.m_level = level;
-        later.keep_kept(later.m_xs, later.m_ys);
+    int level = std::max(m_level, later.m_level);
+    for (;;) {
+        if (m_level < level) {
+            m_level = level;
+            keep_kept(m_xs, m_ys);
+        }
+        if (later.m_level < level) {
+            later.m_level = level;
+            later.keep_kept(later.m_xs, later.m_ys);
+        }
+        if (m_xs.size() + later.m_xs.size() <= m_cap || level >= 63) {
+            break;
+        }
+        ++level;
     }
     m_xs.reserve(m_xs.size() + later.m_xs.size());
     m_ys.reserve(m_ys.size() + later.m_ys.size());
     m_xs.insert(m_xs.end(), later.m_xs.begin(), later.m_xs.end());
     m_ys.insert(m_ys.end(), later.m_ys.begin(), later.m_ys.end());
     later = VertexSample(later.m_cap);
-    while (m_xs.size() > m_cap && m_level < 63) {
-        ++m_level;
-        keep_kept(m_xs, m_ys);
-    }
 }
 
 PlanInput VertexSample::take()

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <queue>
+#include <stdexcept>
 
 namespace trisnap::stitch {
 namespace {
@@ -238,24 +239,71 @@ void FeatureSpool::add(std::uint64_t seq, std::int64_t fid, const Geometry& geom
     m.write_record(m.record);
 }
 
+struct SpoolPart::Spill {
+    Spill(tiling::WorkStore& s, std::string p)
+        : prefix(std::move(p)), features(s.create(prefix + "features")), fids(s.create(prefix + "fids")), writer(*features)
+    {
+    }
+    std::string prefix;
+    std::unique_ptr<tiling::OutFile> features;
+    std::unique_ptr<tiling::OutFile> fids;
+    tiling::RecordWriter writer;
+    bool sealed = false;
+};
+
 void FeatureSpool::append(SpoolPart&& part)
 {
     Impl& m = *m_impl;
-    for (const std::int64_t fid : part.m_fids) {
-        m.note_fid(fid);
-    }
-    // The records' offsets in the features file, then their bytes: block by block, each given
-    // to the file (in memory it becomes one of the file's chunks).
-    const std::uint64_t base = m.features->bytes_written();
-    std::string offsets;
-    offsets.reserve(part.m_starts.size() * sizeof(std::uint64_t));
-    for (const std::uint64_t start : part.m_starts) {
-        const std::uint64_t offset = base + start;
-        offsets.append(reinterpret_cast<const char*>(&offset), sizeof offset);
-    }
-    m.offsets->write(offsets);
-    for (std::string& block : part.m_blocks) {
-        m.features->write_block(std::move(block));
+    if (part.m_spill) {
+        SpoolPart::Spill& spill = *part.m_spill;
+        if (!spill.sealed) {
+            throw std::logic_error("FeatureSpool::append: the spilled part is not sealed");
+        }
+        // Its FIDs, then its records one by one, as add() and skip() would have taken them.
+        {
+            const std::unique_ptr<tiling::InFile> file = m.store.open(spill.prefix + "fids");
+            tiling::BufferedReader fids(*file);
+            std::int64_t fid = 0;
+            std::uint64_t n = 0;
+            for (std::size_t got; (got = fids.read(reinterpret_cast<char*>(&fid), sizeof fid)) == sizeof fid; ++n) {
+                m.note_fid(fid);
+            }
+            if (n != part.m_meta.records) {
+                throw tiling::work_error("damaged work file: " + spill.prefix + "fids holds " + std::to_string(n) +
+                                         " FIDs, the part read " + std::to_string(part.m_meta.records));
+            }
+        }
+        {
+            const std::unique_ptr<tiling::InFile> file = m.store.open(spill.prefix + "features");
+            tiling::RecordReader records(*file, std::size_t{4} << 20);
+            std::uint64_t n = 0;
+            for (; records.next(m.record); ++n) {
+                m.write_record(m.record);
+            }
+            if (n != part.m_meta.spooled) {
+                throw tiling::work_error("damaged work file: " + spill.prefix + "features holds " + std::to_string(n) +
+                                         " records, the part spooled " + std::to_string(part.m_meta.spooled));
+            }
+        }
+        m.store.remove(spill.prefix + "fids");
+        m.store.remove(spill.prefix + "features");
+    } else {
+        for (const std::int64_t fid : part.m_fids) {
+            m.note_fid(fid);
+        }
+        // The records' offsets in the features file, then their bytes: block by block, each
+        // given to the file (in memory it becomes one of the file's chunks).
+        const std::uint64_t base = m.features->bytes_written();
+        std::string offsets;
+        offsets.reserve(part.m_starts.size() * sizeof(std::uint64_t));
+        for (const std::uint64_t start : part.m_starts) {
+            const std::uint64_t offset = base + start;
+            offsets.append(reinterpret_cast<const char*>(&offset), sizeof offset);
+        }
+        m.offsets->write(offsets);
+        for (std::string& block : part.m_blocks) {
+            m.features->write_block(std::move(block));
+        }
     }
     m.meta.records += part.m_meta.records;
     m.meta.vertices += part.m_meta.vertices;
@@ -265,14 +313,39 @@ void FeatureSpool::append(SpoolPart&& part)
     part = SpoolPart(part.m_tolerance, 16, part.m_block_bytes);
 }
 
+
 SpoolPart::SpoolPart(double tolerance, std::size_t sample_cap, std::size_t block_bytes)
     : m_tolerance(tolerance), m_sample(sample_cap), m_block_bytes(std::max<std::size_t>(block_bytes, 1))
 {
 }
 
+SpoolPart::SpoolPart(double tolerance, std::size_t sample_cap, tiling::WorkStore& store, const std::string& prefix)
+    : m_tolerance(tolerance), m_sample(sample_cap), m_block_bytes(1), m_spill(std::make_unique<Spill>(store, prefix))
+{
+}
+
+SpoolPart::SpoolPart(SpoolPart&&) noexcept = default;
+SpoolPart& SpoolPart::operator=(SpoolPart&&) noexcept = default;
+SpoolPart::~SpoolPart() = default;
+
+void SpoolPart::seal()
+{
+    if (m_spill && !m_spill->sealed) {
+        m_spill->features->commit();
+        m_spill->fids->commit();
+        m_spill->sealed = true;
+    }
+}
+
 void SpoolPart::add(std::uint64_t seq, std::int64_t fid, const Geometry& geometry, std::vector<Problem>& problems)
 {
     ++m_meta.records;
+    if (m_spill) {
+        m_spill->fids->write(std::string_view(reinterpret_cast<const char*>(&fid), sizeof fid));
+        spool_feature(seq, fid, geometry, m_tolerance, problems, m_sample, m_meta, m_record);
+        m_spill->writer.write(m_record);
+        return;
+    }
     m_fids.push_back(fid);
     spool_feature(seq, fid, geometry, m_tolerance, problems, m_sample, m_meta, m_record);
     const auto n = static_cast<std::uint32_t>(m_record.size()); // RecordWriter::write's framing
@@ -289,6 +362,10 @@ void SpoolPart::add(std::uint64_t seq, std::int64_t fid, const Geometry& geometr
 void SpoolPart::skip(std::int64_t fid)
 {
     ++m_meta.records;
+    if (m_spill) {
+        m_spill->fids->write(std::string_view(reinterpret_cast<const char*>(&fid), sizeof fid));
+        return;
+    }
     m_fids.push_back(fid);
 }
 

@@ -38,24 +38,36 @@ struct SpoolMeta {
     static SpoolMeta load(tiling::ByteReader& r);
 };
 
-/// A stretch of the input read on a thread of its own (app/read_phase.cpp), spooled in memory:
-/// the same work per feature as FeatureSpool::add()/skip(), nothing written to the store, to be
-/// appended with FeatureSpool::append() after every feature before it. Holds its features'
-/// records (their cleaned vertices) until then.
+/// A stretch of the input read on a thread of its own (app/read_phase.cpp): the same work per
+/// feature as FeatureSpool::add()/skip(), to be appended with FeatureSpool::append() after every
+/// feature before it. In memory it holds its features' records (their cleaned vertices) until
+/// then; spilled (out of core) they and the FIDs go to files of the store as they come, and the
+/// part holds only its sample and the files' buffers.
 class SpoolPart {
 public:
-    /// `block_bytes`: the size of the blocks its records are kept in (a record larger than that
-    /// gets a block of its own).
+    /// In memory. `block_bytes`: the size of the blocks its records are kept in (a record larger
+    /// than that gets a block of its own).
     SpoolPart(double tolerance, std::size_t sample_cap, std::size_t block_bytes = std::size_t{4} << 20);
+    /// Spilled: the records go to `store`'s file `prefix` + "features" (framed as features.bin
+    /// frames them) and every FID to `prefix` + "fids"; seal() commits them.
+    SpoolPart(double tolerance, std::size_t sample_cap, tiling::WorkStore& store, const std::string& prefix);
+    SpoolPart(SpoolPart&&) noexcept;
+    SpoolPart& operator=(SpoolPart&&) noexcept;
+    ~SpoolPart();
     /// FeatureSpool::add(); `seq` is the feature's position in the whole input.
     void add(std::uint64_t seq, std::int64_t fid, const Geometry& geometry, std::vector<Problem>& problems);
     /// FeatureSpool::skip().
     void skip(std::int64_t fid);
-    /// The blocks its records are held in so far.
+    /// After the last add() or skip() of a spilled part: its files committed (on the thread
+    /// that wrote them), ready for append(). Nothing for a part in memory.
+    void seal();
+    /// The blocks its records are held in so far (none when spilled).
     std::size_t blocks() const { return m_blocks.size(); }
+    bool spilled() const { return m_spill != nullptr; }
 
 private:
     friend class FeatureSpool;
+    struct Spill;
     double m_tolerance;
     tiling::VertexSample m_sample;
     SpoolMeta m_meta;                  ///< records, spooled, vertices, the largest feature
@@ -69,6 +81,7 @@ private:
     std::vector<std::uint64_t> m_starts; ///< each record's offset in the blocks' concatenation
     std::uint64_t m_bytes = 0;           ///< the blocks' bytes
     std::string m_record;
+    std::unique_ptr<Spill> m_spill;      ///< the files of a spilled part; null in memory
 };
 
 class FeatureSpool {
@@ -82,7 +95,8 @@ public:
     /// A feature read but not snapped (passed through or rejected): its FID still counts.
     void skip(std::int64_t fid);
     /// The features of `part`, as if each had been added or skipped here now, in its order:
-    /// the same files, meta and sample as that sequence of calls gives.
+    /// the same files, meta and sample as that sequence of calls gives. A spilled part must be
+    /// sealed; its files are read back and removed.
     void append(SpoolPart&& part);
     /// Several layers in one run: call after each layer's features. True when that layer's FIDs
     /// were unique within it (its output can keep them); the engine then takes input positions

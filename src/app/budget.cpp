@@ -31,7 +31,6 @@ RunBudget choose_budget(const SnapArgs& args, const Config& config)
     // Before the input is opened: its vertices are bounded from its size (see estimate.hpp).
     const EstimateInput input = estimate_input(args.input, -1, -1);
     b.estimate = estimate_run(input, estimate_settings(config)).peak_bytes;
-    b.input_bytes = input.input_bytes;
     b.resume = args.resume;
     if (config.run.memory_limit > 0) {
         b.on_disk = true;
@@ -63,8 +62,9 @@ std::uint64_t reserved_margin(std::uint64_t memory_limit)
     if (memory_limit == 0) {
         return 0;
     }
-    // GDAL's SQLite page cache and block cache (each at most 1/16 of the limit, see below), the
-    // bucket and merge buffers (at most 1/8), and slack for the allocator.
+    // GDAL's block cache (at most 1/16 of the limit, see below) and SQLite's page caches (its
+    // default, ~2 MB a connection), the bucket and merge buffers (at most 1/8), and slack for
+    // the allocator (a second reader's sample during the read, 1/16, among it).
     return memory_limit / 4 + 16 * k_mib;
 }
 
@@ -92,7 +92,7 @@ std::uint64_t HeldByLimit::at(std::uint64_t memory_limit) const
 {
     const std::uint64_t sample = 16 * std::min<std::uint64_t>(vertices, sample_vertices(memory_limit));
     const std::uint64_t fids = 8 * std::min<std::uint64_t>(features, fid_buffer(memory_limit));
-    return sample + fids + std::min(input_bytes, gdal_cache_bytes(memory_limit));
+    return sample + fids;
 }
 
 // f(L) = fixed + grows.at(L) + L/4 + 16 MiB + tile rises by less than L (its slope is at most
@@ -114,9 +114,13 @@ std::uint64_t smallest_limit(std::uint64_t tried, std::uint64_t held, const Held
 void apply_gdal_budget(const RunBudget& budget)
 {
     if (budget.memory_limit > 0) {
-        const std::uint64_t cache_mb = gdal_cache_bytes(budget.memory_limit) / k_mib;
-        set_default("OGR_SQLITE_CACHE", std::to_string(cache_mb));
-        set_default("GDAL_CACHEMAX", std::to_string(cache_mb));
+        // GDAL's raster block cache is bounded (its default is 5 % of the memory). SQLite's page
+        // cache is left at SQLite's default, about 2 MB a connection: OGR_SQLITE_CACHE does not
+        // bound it but sets it, and at a sixteenth of the limit each connection (the input's,
+        // the second reader's, OUT's) filled up to 128 MiB of pages that a scan in rowid order
+        // and rows appended in FID order never read again: 1 M polygons under 2 GiB, peak 474
+        // -> 344 MiB, the read 1.60 -> 1.39 s (bench/results/REPORT.md, "SQLite's cache").
+        set_default("GDAL_CACHEMAX", std::to_string(gdal_cache_bytes(budget.memory_limit) / k_mib));
         set_default("OSM_MAX_TMPFILE_SIZE", std::to_string(std::clamp<std::uint64_t>(budget.memory_limit / 4 / k_mib, 16, 1024)));
     }
     if (budget.on_disk) {

@@ -19,7 +19,6 @@ struct RunBudget {
     bool on_disk = false;           ///< work files in a directory
     std::uint64_t memory_limit = 0; ///< bytes the whole process may hold; 0: not bounded
     std::uint64_t estimate = 0;     ///< the run's estimated peak (bytes), from the input's size
-    std::uint64_t input_bytes = 0;  ///< the input's files (0 for a connection string)
     std::string reason;             ///< why this mode, for the plan and the report
     std::string work_dir;
     bool resume = false;
@@ -27,9 +26,9 @@ struct RunBudget {
 
 RunBudget choose_budget(const SnapArgs& args, const Config& config);
 
-/// Sets GDAL's caches (OGR_SQLITE_CACHE, GDAL_CACHEMAX) and the OSM driver's node index
+/// Sets GDAL's raster block cache (GDAL_CACHEMAX) and the OSM driver's node index
 /// (OSM_MAX_TMPFILE_SIZE, CPL_TMPDIR = the work directory) within the budget, unless the user set
-/// them (environment or --config KEY VALUE).
+/// them (environment or --config KEY VALUE). SQLite's page cache keeps SQLite's default.
 void apply_gdal_budget(const RunBudget& budget);
 
 /// What the limit holds besides the tiles: the process before any tile (measured when the
@@ -38,8 +37,8 @@ std::uint64_t reserved_margin(const RunBudget& budget);
 std::uint64_t reserved_margin(std::uint64_t memory_limit);
 
 /// Under a limit, the read phase's buffers: the plan's vertex sample (vertices; limit/16 bytes)
-/// and the FIDs the uniqueness check sorts in memory at once (limit/16 bytes); GDAL's SQLite
-/// cache (bytes) is set by apply_gdal_budget().
+/// and the FIDs the uniqueness check sorts in memory at once (limit/16 bytes). A second reader
+/// (app/read_phase.cpp) keeps a sample of its own of the same size until its part is appended.
 std::size_t sample_vertices(std::uint64_t memory_limit);
 std::size_t fid_buffer(std::uint64_t memory_limit);
 /// Feature boxes the GeoPackage writer keeps in memory to bulk load OUT's spatial index (24
@@ -56,7 +55,6 @@ std::uint64_t gdal_cache_bytes(std::uint64_t memory_limit);
 struct HeldByLimit {
     std::uint64_t vertices = 0;    ///< the layer's engine vertices (the sample holds at most all)
     std::uint64_t features = 0;    ///< its features (the FID buffer holds at most all)
-    std::uint64_t input_bytes = 0; ///< its files (the SQLite cache holds at most all of them)
     std::uint64_t at(std::uint64_t memory_limit) const;
 };
 

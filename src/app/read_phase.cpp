@@ -18,6 +18,7 @@
 #include <spdlog/spdlog.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <exception>
@@ -125,18 +126,29 @@ RecordEntry take_feature(InputFeature& feature, std::uint64_t seq, double tolera
     return e;
 }
 
+/// The files a second reader spills to (out of core); removed once appended, and at the start
+/// of a read (an earlier attempt's).
+const char* const k_read_part = "read-part-";
+
 /// The features of a layer from input position `first` on (its second part), read on a thread
 /// of its own from a dataset handle of its own while the caller reads the ones before: the same
-/// work per feature (take_feature), held in memory until the caller has read up to `first` and
-/// appends it, so that the work files are byte for byte the sequential read's. Nothing but flat
-/// buffers crosses between the threads (handing features over lost: REPORT.md "Reading beside
-/// the spool, again"). Where this reader starts is found by SQL (start_at()); the caller takes
-/// them only when the feature it reads at `first` is the one this reader began with (the
-/// same row), and reads on alone otherwise, as after any failure here (join()).
+/// work per feature (take_feature), kept until the caller has read up to `first` and appends it,
+/// so that the work files are byte for byte the sequential read's. Kept in memory, or with
+/// `spill` (a store on disk) in files of it (k_read_part...): its records, FIDs, records.bin
+/// entries and problems written as they come, so that it holds no more than its sample and the
+/// files' buffers. Nothing but flat buffers crosses between the threads (handing features over
+/// lost: REPORT.md "Reading beside the spool, again"). Where this reader starts is found by SQL
+/// (start_at()); the caller takes them only when the feature it reads at `first` is the one this
+/// reader began with (the same row), and reads on alone otherwise, as after any failure here
+/// (join()).
 class SecondReader {
 public:
-    SecondReader(const Plan& plan, std::uint64_t first, const ReadBuffers& buffers, const InterruptGuard& interrupt)
-        : m_first(first), m_part(plan.options.tolerance, buffers.sample_vertices),
+    SecondReader(const Plan& plan, std::uint64_t first, const ReadBuffers& buffers, tiling::WorkStore* spill,
+                 const InterruptGuard& interrupt)
+        : m_first(first), m_part(spill != nullptr ? stitch::SpoolPart(plan.options.tolerance, buffers.sample_vertices, *spill, k_read_part)
+                                                  : stitch::SpoolPart(plan.options.tolerance, buffers.sample_vertices)),
+          m_spill(spill), m_records_file(spill != nullptr ? spill->create(std::string(k_read_part) + "records") : nullptr),
+          m_problems_file(spill != nullptr ? spill->create(std::string(k_read_part) + "problems") : nullptr),
           m_thread([this, &plan, &interrupt] { run(plan, interrupt); })
     {
     }
@@ -178,10 +190,14 @@ public:
     {
         ReadSummary& s = to.summary;
         to.spool.append(std::move(m_part));
-        to.records.write(m_records);
-        for (Problem& p : m_problems) {
-            p.layer = k;
-            s.problems.add(std::move(p));
+        if (m_spill != nullptr) {
+            append_spilled(k, to);
+        } else {
+            to.records.write(m_records);
+            for (Problem& p : m_problems) {
+                p.layer = k;
+                s.problems.add(std::move(p));
+            }
         }
         s.records += m_layer.records;
         s.smaller += m_smaller;
@@ -192,6 +208,40 @@ public:
     }
 
 private:
+    // The records.bin entries and the problems of a spilled part, read back from its files.
+    void append_spilled(std::uint32_t k, ReadTarget& to)
+    {
+        const std::string records_name = std::string(k_read_part) + "records";
+        const std::string problems_name = std::string(k_read_part) + "problems";
+        {
+            const std::unique_ptr<tiling::InFile> file = m_spill->open(records_name);
+            if (file->size() != m_layer.records * RecordEntry::k_bytes) {
+                throw tiling::work_error("damaged work file: " + records_name + " is not " + std::to_string(m_layer.records) + " entries");
+            }
+            std::string buffer(std::size_t{1} << 20, '\0');
+            for (std::size_t got; (got = file->read(buffer.data(), buffer.size())) > 0;) {
+                to.records.write(std::string_view(buffer.data(), got));
+            }
+        }
+        {
+            const std::unique_ptr<tiling::InFile> file = m_spill->open(problems_name);
+            tiling::RecordReader problems(*file);
+            std::string record;
+            std::uint64_t n = 0;
+            for (; problems.next(record); ++n) {
+                tiling::ByteReader r(record, "problem");
+                Problem p = tiling::get_problem(r);
+                p.layer = k;
+                to.summary.problems.add(std::move(p));
+            }
+            if (n != m_problem_count) {
+                throw tiling::work_error("damaged work file: " + problems_name + " holds " + std::to_string(n) + " problems, the part found " +
+                                         std::to_string(m_problem_count));
+            }
+        }
+        m_spill->remove(records_name);
+        m_spill->remove(problems_name);
+    }
     void stop()
     {
         m_stop = true;
@@ -215,6 +265,11 @@ private:
             }
             std::vector<Problem> found;
             char entry[RecordEntry::k_bytes];
+            std::optional<tiling::RecordWriter> problems; // a spilled part's problems, framed
+            if (m_spill != nullptr) {
+                problems.emplace(*m_problems_file);
+            }
+            std::string problem;
             while (!m_stop) {
                 std::optional<InputFeature> feature = reader.next();
                 if (!feature) {
@@ -226,12 +281,28 @@ private:
                 }
                 const RecordEntry e = take_feature(*feature, m_first + m_layer.records, plan.tolerance, m_layer,
                                                    m_smaller, m_part, found);
-                for (Problem& p : found) {
-                    m_problems.push_back(std::move(p));
-                }
                 e.encode(entry);
-                m_records.append(entry, sizeof entry);
+                if (m_spill != nullptr) {
+                    for (const Problem& p : found) {
+                        problem.clear();
+                        tiling::ByteWriter w(problem);
+                        tiling::put_problem(w, p);
+                        problems->write(problem);
+                        ++m_problem_count;
+                    }
+                    m_records_file->write(std::string_view(entry, sizeof entry));
+                } else {
+                    for (Problem& p : found) {
+                        m_problems.push_back(std::move(p));
+                    }
+                    m_records.append(entry, sizeof entry);
+                }
                 m_read.store(m_layer.records, std::memory_order_relaxed);
+            }
+            if (m_spill != nullptr && !m_stop) { // committed here, on this thread, not while the caller waits
+                m_part.seal();
+                m_records_file->commit();
+                m_problems_file->commit();
             }
         } catch (...) {
             m_error = std::current_exception(); // the caller reads these features itself
@@ -272,10 +343,14 @@ private:
 
     std::uint64_t m_first;
     stitch::SpoolPart m_part;
+    tiling::WorkStore* m_spill;                     ///< the store it spills to; null: in memory
+    std::unique_ptr<tiling::OutFile> m_records_file;  ///< spilled: records.bin's entries
+    std::unique_ptr<tiling::OutFile> m_problems_file; ///< spilled: the problems, framed
+    std::uint64_t m_problem_count = 0;                ///< spilled: problems written
     LayerRead m_layer; ///< records, rejected, snapped, input_vertices of its features
     std::size_t m_smaller = 0;
-    std::string m_records; ///< records.bin's entries
-    std::vector<Problem> m_problems;
+    std::string m_records; ///< in memory: records.bin's entries
+    std::vector<Problem> m_problems; ///< in memory
     std::int64_t m_first_fid = 0;
     std::exception_ptr m_error;
     std::string m_refusal;
@@ -295,10 +370,15 @@ void read_features(LayerReader& reader, std::uint32_t k, ReadTarget& to, SecondR
     for (;;) {
         std::optional<InputFeature> feature = reader.next();
         if (second != nullptr && layer.records == second->first()) {
+            const auto t0 = std::chrono::steady_clock::now();
             if (second->join(feature)) {
+                const auto t1 = std::chrono::steady_clock::now();
                 spdlog::info("read: features {} to {} of {} read on a second thread", second->first() + 1,
                              second->first() + second->features(), second->first() + second->features());
                 second->append_to(k, layer, to);
+                spdlog::debug("read: waited {:.3f} s for the second thread, took its features in {:.3f} s",
+                              std::chrono::duration<double>(t1 - t0).count(),
+                              std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count());
                 to.progress.update(static_cast<std::int64_t>(s.records));
                 break;
             }
@@ -324,9 +404,9 @@ void read_features(LayerReader& reader, std::uint32_t k, ReadTarget& to, SecondR
     s.input_vertices += layer.input_vertices;
 }
 
-// Where a second reader takes over, or 0 for none: one layer of a GeoPackage (its features
-// reachable by position through SQLite's OFFSET), no --where or --bbox, tiles, at least two
-// threads, and enough features for a second dataset handle and thread to pay (TRISNAP_READ_SPLIT_MIN
+// Where a second reader takes over, or 0 for none: allowed by the budget (ReadBuffers), one
+// layer of a GeoPackage (its features reachable by position through SQLite's OFFSET), no
+// --where or --bbox, tiles, at least two threads, and enough features for a second dataset handle and thread to pay (TRISNAP_READ_SPLIT_MIN
 // overrides the 20,000 for the tests).
 std::uint64_t second_reader_start(const Plan& plan, const ReadBuffers& buffers)
 {
@@ -358,6 +438,7 @@ ReadSummary read_layer(Plan& plan, tiling::WorkStore& store, const ReadBuffers& 
     ReadSummary s;
     s.problems = ProblemLog(store, k_read_problems, buffers.problem_bytes);
     s.problems.begin_phase(k_read_problems); // an earlier attempt's runs go
+    store.remove_all(k_read_part);           // and a second reader's files
     {
         stitch::FeatureSpool spool(store, plan.options.tolerance, buffers.sample_vertices, buffers.fids);
         const std::unique_ptr<tiling::OutFile> records = store.create(k_records_file);
@@ -371,12 +452,16 @@ ReadSummary read_layer(Plan& plan, tiling::WorkStore& store, const ReadBuffers& 
             std::unique_ptr<SecondReader> second;
             if (const std::uint64_t first = k == 0 ? second_reader_start(plan, buffers) : 0; first > 0) {
                 try {
-                    second = std::make_unique<SecondReader>(plan, first, buffers, interrupt);
+                    second = std::make_unique<SecondReader>(plan, first, buffers, store.on_disk() ? &store : nullptr, interrupt);
                 } catch (const std::system_error& e) { // no thread to be had: one reads it all
                     spdlog::info("read: no second thread ({}); read on one thread", e.what());
                 }
             }
             read_features(reader, static_cast<std::uint32_t>(k), to, second.get());
+            if (second) {
+                second.reset();                 // its thread joined, its files closed
+                store.remove_all(k_read_part); // what a part set aside (not taken) left
+            }
             if (plan.layers.size() > 1) {
                 s.layers.back().fids_unique = spool.end_layer();
             }

@@ -121,7 +121,7 @@ void RunPhases::read(Plan& plan)
         check_disk_before_read(m_work, plan);
         const std::uint64_t limit = m_budget.memory_limit;
         const ReadBuffers buffers{sample_vertices(limit), fid_buffer(limit), problem_buffer(),
-                                  limit == 0 && !m_work.on_disk()};
+                                  limit == 0 || limit >= 512 * k_mib};
         summary = read_layer(plan, m_work.store(), buffers, m_progress, m_interrupt);
     });
     m_result.seconds_read = m_result.phases.back().seconds;
@@ -166,7 +166,7 @@ std::uint64_t RunPhases::memory_pool() const
 // with the limit grown) beside the margin and `tile`: a whole number of MiB, never less than it.
 std::string RunPhases::smallest_limit_text(std::uint64_t rss, std::uint64_t tile) const
 {
-    const HeldByLimit grows{m_meta.vertices, m_result.input, m_budget.input_bytes};
+    const HeldByLimit grows{m_meta.vertices, m_result.input};
     const std::uint64_t limit = smallest_limit(m_budget.memory_limit, rss, grows, tile);
     return fmt::format("{} MiB", limit / k_mib);
 }

@@ -50,8 +50,9 @@ TEST(CliTiling, ThreadsTilesAndNoTilesGiveIdenticalBytes)
 // layer this small): the output, the report's counts and problems are the one-thread run's, the
 // log says which features it read; started one row late (TRISNAP_READ_SPLIT_SKEW, a driver
 // whose order disagreed) its features are set aside and the run reads on alone, to the same
-// bytes. At the default minimum (20,000 features) Andorra's 5,757 are read on one thread, and
-// with --no-tiles a layer of any size.
+// bytes; out of core (--memory-limit 512MiB and more) alike, its part spilled to the work directory. At the
+// default minimum (20,000 features) Andorra's 5,757 are read on one thread, and with --no-tiles
+// a layer of any size.
 TEST(CliTiling, TheSecondReaderGivesTheOneThreadBytes)
 {
     if (!exists(andorra())) GTEST_SKIP() << "data set absent: " << andorra();
@@ -81,6 +82,14 @@ TEST(CliTiling, TheSecondReaderGivesTheOneThreadBytes)
         const auto [bytes, report, log] = run("split", {"--threads", "2"});
         EXPECT_NE(log.find("read: features 3456 to 5757 of 5757 read on a second thread"), std::string::npos) << log;
         same_as_one(bytes, report);
+        // Out of core the part goes to files of the work directory as it is read, not to memory;
+        // under a limit below 512 MiB one thread reads (what the second holds would stay).
+        const auto [ooc_bytes, ooc_report, ooc_log] = run("split-ooc", {"--threads", "2", "--memory-limit", "512MiB"});
+        EXPECT_NE(ooc_log.find("read: features 3456 to 5757 of 5757 read on a second thread"), std::string::npos) << ooc_log;
+        same_as_one(ooc_bytes, ooc_report);
+        const auto [tight_bytes, tight_report, tight_log] = run("tight", {"--threads", "2", "--memory-limit", "511MiB"});
+        EXPECT_EQ(tight_log.find("second thread"), std::string::npos) << tight_log;
+        same_as_one(tight_bytes, tight_report);
         const auto [untiled_bytes, untiled_report, untiled_log] = run("untiled", {"--threads", "2", "--no-tiles"});
         EXPECT_EQ(untiled_log.find("second thread"), std::string::npos) << "--no-tiles reads on one thread: " << untiled_log;
         EXPECT_EQ(untiled_bytes, one_bytes); // the tiled bytes, as ever
@@ -89,6 +98,9 @@ TEST(CliTiling, TheSecondReaderGivesTheOneThreadBytes)
         EXPECT_NE(late_log.find("the second thread's features set aside (it began at FID"), std::string::npos) << late_log;
         EXPECT_EQ(late_log.find("read on a second thread"), std::string::npos) << late_log;
         same_as_one(late_bytes, late_report);
+        const auto [late_ooc_bytes, late_ooc_report, late_ooc_log] = run("late-ooc", {"--threads", "2", "--memory-limit", "512MiB"});
+        EXPECT_NE(late_ooc_log.find("the second thread's features set aside (it began at FID"), std::string::npos) << late_ooc_log;
+        same_as_one(late_ooc_bytes, late_ooc_report);
     }
 }
 

@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <stdexcept>
 
 namespace trisnap {
 namespace {
@@ -169,10 +170,11 @@ TEST(Records, SpooledFeaturesReadBackAsCleaned)
     EXPECT_EQ(compared, 2u * (4 + 4 + 3 + 2 + 3));
 }
 
-// The read phase's second reader spools its part of the layer in memory (stitch::SpoolPart) and
-// the first appends it: every work file and the meta must be those of the sequential spool,
-// whatever the cut, with features the cleaning repairs or rejects and features skipped on
-// either side, and with the FID check's runs spilled (a buffer of 64 FIDs).
+// The read phase's second reader spools its part of the layer (stitch::SpoolPart), in memory or
+// spilled to files of the store (out of core), and the first appends it: every work file and the
+// meta must be those of the sequential spool, whatever the cut, with features the cleaning
+// repairs or rejects and features skipped on either side, and with the FID check's runs spilled
+// (a buffer of 64 FIDs); a spilled part's files are gone after the append.
 TEST(SpoolPart, AppendedPartGivesTheSequentialSpool)
 {
     const double t = 1e-3;
@@ -223,18 +225,21 @@ TEST(SpoolPart, AppendedPartGivesTheSequentialSpool)
     EXPECT_FALSE(expected_problems[40].empty());
     EXPECT_FALSE(expected_problems[100].empty());
     // The part is [cut, end): the features after `end` are added after the append, past the
-    // part's bytes. Blocks of 4 MiB hold the part in one; of 64 bytes, one record each.
+    // part's bytes. Blocks of 4 MiB hold the part in one; of 64 bytes, one record each; block 0
+    // here: the part spilled to the store.
     std::size_t blocks_seen = 0;
+    std::size_t spilled_seen = 0;
     for (const bool on_disk : {false, true}) {
-        for (const std::size_t block : {std::size_t{4} << 20, std::size_t{64}}) {
+        for (const std::size_t block : {std::size_t{4} << 20, std::size_t{64}, std::size_t{0}}) {
             for (const std::size_t cut : {std::size_t{0}, std::size_t{41}, std::size_t{100}, input.size() / 2, input.size()}) {
                 const std::size_t end = cut == 41 ? 90 : input.size();
-                SCOPED_TRACE("cut at " + std::to_string(cut) + ", to " + std::to_string(end) + ", blocks of " +
-                             std::to_string(block) + (on_disk ? ", on disk" : ", in memory"));
+                SCOPED_TRACE("cut at " + std::to_string(cut) + ", to " + std::to_string(end) +
+                             (block == 0 ? std::string(", spilled") : ", blocks of " + std::to_string(block)) +
+                             (on_disk ? ", on disk" : ", in memory"));
                 auto store = make_store(on_disk);
                 const std::vector<std::string>& expected = expected_files[on_disk ? 1 : 0];
                 stitch::FeatureSpool spool(*store, t, 200, 64);
-                stitch::SpoolPart part(t, 200, block);
+                stitch::SpoolPart part = block == 0 ? stitch::SpoolPart(t, 200, *store, "part-") : stitch::SpoolPart(t, 200, block);
                 std::vector<std::vector<Problem>> problems(input.size());
                 const auto take = [&](std::size_t i, auto& into) {
                     if (skipped(i)) {
@@ -247,7 +252,15 @@ TEST(SpoolPart, AppendedPartGivesTheSequentialSpool)
                     i < cut ? take(i, spool) : take(i, part);
                 }
                 blocks_seen = std::max(blocks_seen, part.blocks());
+                if (part.spilled()) {
+                    EXPECT_EQ(part.blocks(), 0u); // nothing held
+                    EXPECT_THROW(spool.append(std::move(part)), std::logic_error) << "appended before it was sealed";
+                    part.seal();
+                    EXPECT_TRUE(store->exists("part-features") && store->exists("part-fids"));
+                    ++spilled_seen;
+                }
                 spool.append(std::move(part));
+                EXPECT_FALSE(store->exists("part-features") || store->exists("part-fids")) << "the part's files stayed";
                 for (std::size_t i = end; i < input.size(); ++i) {
                     take(i, spool);
                 }
@@ -268,16 +281,20 @@ TEST(SpoolPart, AppendedPartGivesTheSequentialSpool)
     }
     fs::remove_all(dir);
     EXPECT_GT(blocks_seen, 50u); // the small blocks did split the part
-    // A FID repeated across the cut is found as if read in one go.
-    auto store = tiling::make_memory_store();
-    stitch::FeatureSpool spool(*store, t, 200, 64);
-    stitch::SpoolPart part(t, 200);
-    for (std::size_t i = 0; i < 70; ++i) {
-        spool.skip(static_cast<std::int64_t>(i));
+    EXPECT_EQ(spilled_seen, 10u);
+    // A FID repeated across the cut is found as if read in one go, the part in memory or spilled.
+    for (const bool spilled : {false, true}) {
+        auto store = tiling::make_memory_store();
+        stitch::FeatureSpool spool(*store, t, 200, 64);
+        stitch::SpoolPart part = spilled ? stitch::SpoolPart(t, 200, *store, "part-") : stitch::SpoolPart(t, 200);
+        for (std::size_t i = 0; i < 70; ++i) {
+            spool.skip(static_cast<std::int64_t>(i));
+        }
+        part.skip(3);
+        part.seal();
+        spool.append(std::move(part));
+        EXPECT_FALSE(spool.finish().fids_unique) << (spilled ? "spilled" : "in memory");
     }
-    part.skip(3);
-    spool.append(std::move(part));
-    EXPECT_FALSE(spool.finish().fids_unique);
 }
 
 

@@ -37,6 +37,21 @@ void TiledRun::Impl::save_groups()
     store.put(files::groups, bytes);
 }
 
+std::uint64_t pool_tile_vertices(const MemoryModel& model, std::uint64_t pool, int threads, std::uint64_t wanted)
+{
+    if (pool == 0) {
+        return wanted;
+    }
+    std::uint64_t share = 0;
+    for (std::uint64_t k = static_cast<std::uint64_t>(std::max(threads, 1)); k >= 1; --k) {
+        share = model.vertices_within(pool / k);
+        if (share >= std::min(wanted, k_least_pool_tile_vertices)) {
+            break;
+        }
+    }
+    return std::min(wanted, std::max<std::uint64_t>(share, 16));
+}
+
 // The largest tile the pool can hold alone (each tile must fit; tiles bigger than a share of
 // the pool just run with fewer beside them).
 std::uint64_t TiledRun::Impl::max_tile_vertices() const
@@ -218,9 +233,8 @@ void TiledRun::plan(SpoolMeta& meta, const PassProgress& progress)
     bo.seam_band = 2 * m.options.tolerance + 4 * m.options.grid;
     bo.max_tile_vertices = m.max_tile_vertices();
     if (m.schedule.memory_pool > 0) {
-        // Tiles small enough for every thread to run one within the pool.
-        const std::uint64_t share = m.schedule.model.vertices_within(m.schedule.memory_pool / static_cast<std::uint64_t>(m.threads()));
-        tiling.plan.vertex_budget = std::min<std::size_t>(tiling.plan.vertex_budget, std::max<std::uint64_t>(share, 16));
+        tiling.plan.vertex_budget = static_cast<std::size_t>(
+            pool_tile_vertices(m.schedule.model, m.schedule.memory_pool, m.threads(), tiling.plan.vertex_budget));
         bo.buffer_bytes = static_cast<std::size_t>(std::clamp<std::uint64_t>(m.schedule.memory_pool / 8, 1u << 20, 64u << 20));
     }
     m.layout = make_buckets(m.store, m.meta, std::move(sample), tiling, bo, progress);

@@ -47,6 +47,19 @@ struct MemoryModel {
     }
 };
 
+/// Tiles smaller than this are not made to let every thread run one within a memory pool:
+/// fewer run at once instead.
+constexpr std::uint64_t k_least_pool_tile_vertices = 10000;
+
+/// The most input vertices the tiles may hold under a memory pool of `pool` bytes (0: none)
+/// for `threads` threads, at most `wanted` (--tile-vertex-budget): a thread's share of the
+/// pool, or where that share holds fewer than k_least_pool_tile_vertices the share of fewer
+/// threads (the schedule runs only as many tiles at once as the pool holds), down to the whole
+/// pool for one tile; at least 16. A share was all it took before: Andorra x43 under 155 MiB
+/// left a pool of ~9 MiB, half of it below the model's 8 MiB a tile, and tiles of 16
+/// vertices ran for minutes instead of 3 s.
+std::uint64_t pool_tile_vertices(const MemoryModel& model, std::uint64_t pool, int threads, std::uint64_t wanted);
+
 /// A tile failed and the run stops (OnError::stop): names the tile, its core and the reason.
 class tile_error : public std::runtime_error {
 public:

@@ -1,5 +1,6 @@
 #include "app/run_phases.hpp"
 
+#include "app/command.hpp"
 #include "app/disk_space.hpp"
 #include "app/memory.hpp"
 #include "config/errors.hpp"
@@ -186,6 +187,16 @@ void RunPhases::open_tiles()
     schedule.model = m_model;
     schedule.memory_pool = m_result.memory_pool = memory_pool();
     schedule.check_cancel = [this] { m_interrupt.check(); };
+    const int threads = m_tiling.threads > 0 ? m_tiling.threads : available_cores();
+    const std::uint64_t wanted = m_tiling.plan.vertex_budget;
+    if (const std::uint64_t fits = stitch::pool_tile_vertices(m_model, schedule.memory_pool, threads, wanted); fits < wanted) {
+        // Said once the tiles are snapped: a run that stops on a tile too large for the limit
+        // says only that, in one line.
+        m_small_tiles = fmt::format("--memory-limit {} left {} for tiles: tiles of at most {} vertices instead of {} "
+                                    "(--tile-vertex-budget), a slower run; about {} would give full-size tiles",
+                                    format_size(m_budget.memory_limit), format_size(schedule.memory_pool), fits, wanted,
+                                    smallest_limit_text(current_rss(), m_model.tile_bytes(wanted) * static_cast<std::uint64_t>(threads)));
+    }
     m_run = std::make_unique<stitch::TiledRun>(m_work.store(), m_options, m_tiling, schedule);
 }
 
@@ -220,6 +231,9 @@ void RunPhases::snap(const std::function<bool(std::size_t)>& mine)
         guarded([&] { m_run->snap(on_tiles, mine); });
         m_progress.finish();
     });
+    if (!m_small_tiles.empty()) {
+        spdlog::warn("{}", m_small_tiles);
+    }
 }
 
 void RunPhases::stitch()

@@ -79,6 +79,7 @@ private:
     RunResult m_result;
     InterruptGuard& m_interrupt;
     stitch::MemoryModel m_model;
+    std::string m_small_tiles; ///< the warning when the limit made the tiles smaller than asked
     stitch::SpoolMeta m_meta;
     std::unique_ptr<stitch::TiledRun> m_run;
 };

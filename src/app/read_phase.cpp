@@ -406,8 +406,8 @@ void read_features(LayerReader& reader, std::uint32_t k, ReadTarget& to, SecondR
 
 // Where a second reader takes over, or 0 for none: allowed by the budget (ReadBuffers), one
 // layer of a GeoPackage (its features reachable by position through SQLite's OFFSET), no
-// --where or --bbox, tiles, at least two threads, and enough features for a second dataset handle and thread to pay (TRISNAP_READ_SPLIT_MIN
-// overrides the 20,000 for the tests).
+// --where or --bbox, tiles, at least two threads, and enough features for a second dataset
+// handle and thread to pay (TRISNAP_READ_SPLIT_MIN overrides the 20,000 for the tests).
 std::uint64_t second_reader_start(const Plan& plan, const ReadBuffers& buffers)
 {
     std::int64_t least = 20000;

@@ -189,7 +189,8 @@ void RunPhases::open_tiles()
     schedule.check_cancel = [this] { m_interrupt.check(); };
     const int threads = m_tiling.threads > 0 ? m_tiling.threads : available_cores();
     const std::uint64_t wanted = m_tiling.plan.vertex_budget;
-    if (const std::uint64_t fits = stitch::pool_tile_vertices(m_model, schedule.memory_pool, threads, wanted); fits < wanted) {
+    const std::uint64_t fits = stitch::pool_tile_vertices(m_model, schedule.memory_pool, threads, wanted);
+    if (fits < wanted && !m_work.store().exists(stitch::files::layout)) { // a resumed run's tiles are planned already
         // Said once the tiles are snapped: a run that stops on a tile too large for the limit
         // says only that, in one line.
         m_small_tiles = fmt::format("--memory-limit {} left {} for tiles: tiles of at most {} vertices instead of {} "

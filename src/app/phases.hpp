@@ -63,7 +63,7 @@ struct ReadBuffers {
     /// kept in memory, or out of core in files of the store. Its sample (up to sample_vertices
     /// more), connection, buffers and heap stay resident after it (freed, kept for reuse), so
     /// the tiles' share of a limit would shrink by ~20-30 MiB: not under a limit below 512 MiB
-    /// (Andorra x43 under 180 MiB: 111 MiB held after the read instead of 89, 8 MiB left for
+    /// (Andorra x43 under 180 MiB: the read peaked at 111-122 MiB instead of 89-94, 8 MiB left for
     /// tiles; the run took 422 s instead of 3.6 while tiles were sized to a thread's share of
     /// that, stitch::pool_tile_vertices now gives them the whole of it, one at a time).
     bool second_reader = true;

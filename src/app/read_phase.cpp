@@ -133,22 +133,22 @@ const char* const k_read_part = "read-part-";
 /// The features of a layer from input position `first` on (its second part), read on a thread
 /// of its own from a dataset handle of its own while the caller reads the ones before: the same
 /// work per feature (take_feature), kept until the caller has read up to `first` and appends it,
-/// so that the work files are byte for byte the sequential read's. Kept in memory, or with
-/// `spill` (a store on disk) in files of it (k_read_part...): its records, FIDs, records.bin
-/// entries and problems written as they come, so that it holds no more than its sample and the
-/// files' buffers. Nothing but flat buffers crosses between the threads (handing features over
+/// so that the work files are byte for byte the sequential read's. Its records.bin entries and
+/// problems go to files of the store (k_read_part...: in memory for a store in memory); its
+/// features' records are held in memory (stitch::SpoolPart's blocks, handed over without a copy)
+/// or, with `spill` (out of core), written to the store too, so that it holds no more than its
+/// sample and the files' buffers. Nothing but flat buffers crosses between the threads (handing features over
 /// lost: REPORT.md "Reading beside the spool, again"). Where this reader starts is found by SQL
 /// (start_at()); the caller takes them only when the feature it reads at `first` is the one this
 /// reader began with (the same row), and reads on alone otherwise, as after any failure here
 /// (join()).
 class SecondReader {
 public:
-    SecondReader(const Plan& plan, std::uint64_t first, const ReadBuffers& buffers, tiling::WorkStore* spill,
+    SecondReader(const Plan& plan, std::uint64_t first, const ReadBuffers& buffers, tiling::WorkStore& store, bool spill,
                  const InterruptGuard& interrupt)
-        : m_first(first), m_part(spill != nullptr ? stitch::SpoolPart(plan.options.tolerance, buffers.sample_vertices, *spill, k_read_part)
-                                                  : stitch::SpoolPart(plan.options.tolerance, buffers.sample_vertices)),
-          m_spill(spill), m_records_file(spill != nullptr ? spill->create(std::string(k_read_part) + "records") : nullptr),
-          m_problems_file(spill != nullptr ? spill->create(std::string(k_read_part) + "problems") : nullptr),
+        : m_first(first), m_part(spill ? stitch::SpoolPart(plan.options.tolerance, buffers.sample_vertices, store, k_read_part)
+                                       : stitch::SpoolPart(plan.options.tolerance, buffers.sample_vertices)),
+          m_store(store), m_records_file(store.create(records_name())), m_problems_file(store.create(problems_name())),
           m_thread([this, &plan, &interrupt] { run(plan, interrupt); })
     {
     }
@@ -190,15 +190,7 @@ public:
     {
         ReadSummary& s = to.summary;
         to.spool.append(std::move(m_part));
-        if (m_spill != nullptr) {
-            append_spilled(k, to);
-        } else {
-            to.records.write(m_records);
-            for (Problem& p : m_problems) {
-                p.layer = k;
-                s.problems.add(std::move(p));
-            }
-        }
+        append_files(k, to);
         s.records += m_layer.records;
         s.smaller += m_smaller;
         layer.records += m_layer.records;
@@ -208,15 +200,15 @@ public:
     }
 
 private:
-    // The records.bin entries and the problems of a spilled part, read back from its files.
-    void append_spilled(std::uint32_t k, ReadTarget& to)
+    static std::string records_name() { return std::string(k_read_part) + "records"; }
+    static std::string problems_name() { return std::string(k_read_part) + "problems"; }
+    // The records.bin entries and the problems, read back from their files.
+    void append_files(std::uint32_t k, ReadTarget& to)
     {
-        const std::string records_name = std::string(k_read_part) + "records";
-        const std::string problems_name = std::string(k_read_part) + "problems";
         {
-            const std::unique_ptr<tiling::InFile> file = m_spill->open(records_name);
+            const std::unique_ptr<tiling::InFile> file = m_store.open(records_name());
             if (file->size() != m_layer.records * RecordEntry::k_bytes) {
-                throw tiling::work_error("damaged work file: " + records_name + " is not " + std::to_string(m_layer.records) + " entries");
+                throw tiling::work_error("damaged work file: " + records_name() + " is not " + std::to_string(m_layer.records) + " entries");
             }
             std::string buffer(std::size_t{1} << 20, '\0');
             for (std::size_t got; (got = file->read(buffer.data(), buffer.size())) > 0;) {
@@ -224,7 +216,7 @@ private:
             }
         }
         {
-            const std::unique_ptr<tiling::InFile> file = m_spill->open(problems_name);
+            const std::unique_ptr<tiling::InFile> file = m_store.open(problems_name());
             tiling::RecordReader problems(*file);
             std::string record;
             std::uint64_t n = 0;
@@ -235,12 +227,12 @@ private:
                 to.summary.problems.add(std::move(p));
             }
             if (n != m_problem_count) {
-                throw tiling::work_error("damaged work file: " + problems_name + " holds " + std::to_string(n) + " problems, the part found " +
+                throw tiling::work_error("damaged work file: " + problems_name() + " holds " + std::to_string(n) + " problems, the part found " +
                                          std::to_string(m_problem_count));
             }
         }
-        m_spill->remove(records_name);
-        m_spill->remove(problems_name);
+        m_store.remove(records_name());
+        m_store.remove(problems_name());
     }
     void stop()
     {
@@ -265,10 +257,7 @@ private:
             }
             std::vector<Problem> found;
             char entry[RecordEntry::k_bytes];
-            std::optional<tiling::RecordWriter> problems; // a spilled part's problems, framed
-            if (m_spill != nullptr) {
-                problems.emplace(*m_problems_file);
-            }
+            tiling::RecordWriter problems(*m_problems_file); // framed
             std::string problem;
             while (!m_stop) {
                 std::optional<InputFeature> feature = reader.next();
@@ -282,24 +271,17 @@ private:
                 const RecordEntry e = take_feature(*feature, m_first + m_layer.records, plan.tolerance, m_layer,
                                                    m_smaller, m_part, found);
                 e.encode(entry);
-                if (m_spill != nullptr) {
-                    for (const Problem& p : found) {
-                        problem.clear();
-                        tiling::ByteWriter w(problem);
-                        tiling::put_problem(w, p);
-                        problems->write(problem);
-                        ++m_problem_count;
-                    }
-                    m_records_file->write(std::string_view(entry, sizeof entry));
-                } else {
-                    for (Problem& p : found) {
-                        m_problems.push_back(std::move(p));
-                    }
-                    m_records.append(entry, sizeof entry);
+                for (const Problem& p : found) {
+                    problem.clear();
+                    tiling::ByteWriter w(problem);
+                    tiling::put_problem(w, p);
+                    problems.write(problem);
+                    ++m_problem_count;
                 }
+                m_records_file->write(std::string_view(entry, sizeof entry));
                 m_read.store(m_layer.records, std::memory_order_relaxed);
             }
-            if (m_spill != nullptr && !m_stop) { // committed here, on this thread, not while the caller waits
+            if (!m_stop) { // committed here, on this thread, not while the caller waits
                 m_part.seal();
                 m_records_file->commit();
                 m_problems_file->commit();
@@ -343,14 +325,12 @@ private:
 
     std::uint64_t m_first;
     stitch::SpoolPart m_part;
-    tiling::WorkStore* m_spill;                     ///< the store it spills to; null: in memory
-    std::unique_ptr<tiling::OutFile> m_records_file;  ///< spilled: records.bin's entries
-    std::unique_ptr<tiling::OutFile> m_problems_file; ///< spilled: the problems, framed
-    std::uint64_t m_problem_count = 0;                ///< spilled: problems written
+    tiling::WorkStore& m_store;
+    std::unique_ptr<tiling::OutFile> m_records_file;  ///< records.bin's entries
+    std::unique_ptr<tiling::OutFile> m_problems_file; ///< the problems, framed
+    std::uint64_t m_problem_count = 0;                ///< problems written
     LayerRead m_layer; ///< records, rejected, snapped, input_vertices of its features
     std::size_t m_smaller = 0;
-    std::string m_records; ///< in memory: records.bin's entries
-    std::vector<Problem> m_problems; ///< in memory
     std::int64_t m_first_fid = 0;
     std::exception_ptr m_error;
     std::string m_refusal;
@@ -452,7 +432,7 @@ ReadSummary read_layer(Plan& plan, tiling::WorkStore& store, const ReadBuffers& 
             std::unique_ptr<SecondReader> second;
             if (const std::uint64_t first = k == 0 ? second_reader_start(plan, buffers) : 0; first > 0) {
                 try {
-                    second = std::make_unique<SecondReader>(plan, first, buffers, store.on_disk() ? &store : nullptr, interrupt);
+                    second = std::make_unique<SecondReader>(plan, first, buffers, store, store.on_disk(), interrupt);
                 } catch (const std::system_error& e) { // no thread to be had: one reads it all
                     spdlog::info("read: no second thread ({}); read on one thread", e.what());
                 }

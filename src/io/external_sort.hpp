@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <system_error>
 #include <type_traits>
@@ -56,6 +57,9 @@ public:
     /// buffer beyond the capacity becomes the first run at the next add()).
     void take(std::vector<T>&& records)
     {
+        if (m_count != 0) {
+            throw std::logic_error("ExternalSorter::take() after records were added");
+        }
         m_count = records.size();
         m_buffer = std::move(records);
     }

@@ -237,6 +237,7 @@ void TiledRun::plan(SpoolMeta& meta, const PassProgress& progress)
             pool_tile_vertices(m.schedule.model, m.schedule.memory_pool, m.threads(), tiling.plan.vertex_budget));
         bo.buffer_bytes = static_cast<std::size_t>(std::clamp<std::uint64_t>(m.schedule.memory_pool / 8, 1u << 20, 64u << 20));
     }
+    m.planned_budget = tiling.plan.vertex_budget;
     m.layout = make_buckets(m.store, m.meta, std::move(sample), tiling, bo, progress);
     m.groups = Groups::of_layout(m.layout);
     m.save_groups();
@@ -329,6 +330,10 @@ std::unique_ptr<OutputMerger> TiledRun::output()
 const TileLayout& TiledRun::layout() const { return m_impl->layout; }
 
 const Groups& TiledRun::groups() const { return m_impl->groups; }
+
+std::uint64_t TiledRun::planned_vertex_budget() const { return m_impl->planned_budget; }
+
+int TiledRun::threads() const { return m_impl->threads(); }
 
 StitchStats TiledRun::stats() const
 {

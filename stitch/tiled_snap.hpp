@@ -109,6 +109,12 @@ public:
     /// budget comes from the memory pool when there is one. Takes the sample's vertices out of
     /// `meta` (the plan is their only reader; its extent and counts stay).
     void plan(SpoolMeta& meta, const PassProgress& progress = {});
+    /// The tile vertex budget plan() planned with: TilingOptions' own, or less where the memory
+    /// pool holds less (pool_tile_vertices()). 0 when plan() took an earlier run's plan (resume)
+    /// or has not run.
+    std::uint64_t planned_vertex_budget() const;
+    /// The threads the tiles run on (ScheduleOptions::threads, or TBB's default).
+    int threads() const;
     /// Snaps every tile that has no result yet; `mine(group)` picks a share of them (then a tile
     /// that fails under OnError::skip is not retried merged with its neighbours).
     void snap(const TileProgress& progress = {}, const std::function<bool(std::size_t)>& mine = {});

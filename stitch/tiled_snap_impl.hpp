@@ -38,6 +38,7 @@ struct TiledRun::Impl {
     SpoolMeta meta;
     TileLayout layout;
     Groups groups;
+    std::uint64_t planned_budget = 0; ///< the tile vertex budget plan() planned with; 0: it took an earlier run's plan
     std::vector<std::pair<std::uint64_t, Problem>> notes;
     StitchStats stats;
 };

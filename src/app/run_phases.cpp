@@ -187,17 +187,6 @@ void RunPhases::open_tiles()
     schedule.model = m_model;
     schedule.memory_pool = m_result.memory_pool = memory_pool();
     schedule.check_cancel = [this] { m_interrupt.check(); };
-    const int threads = m_tiling.threads > 0 ? m_tiling.threads : available_cores();
-    const std::uint64_t wanted = m_tiling.plan.vertex_budget;
-    const std::uint64_t fits = stitch::pool_tile_vertices(m_model, schedule.memory_pool, threads, wanted);
-    if (fits < wanted && !m_work.store().exists(stitch::files::layout)) { // a resumed run's tiles are planned already
-        // Said once the tiles are snapped: a run that stops on a tile too large for the limit
-        // says only that, in one line.
-        m_small_tiles = fmt::format("--memory-limit {} left {} for tiles: tiles of at most {} vertices instead of {} "
-                                    "(--tile-vertex-budget), a slower run; about {} would give full-size tiles",
-                                    format_size(m_budget.memory_limit), format_size(schedule.memory_pool), fits, wanted,
-                                    smallest_limit_text(current_rss(), m_model.tile_bytes(wanted) * static_cast<std::uint64_t>(threads)));
-    }
     m_run = std::make_unique<stitch::TiledRun>(m_work.store(), m_options, m_tiling, schedule);
 }
 
@@ -213,6 +202,17 @@ void RunPhases::spool()
         guarded([&] { m_run->plan(m_meta, on_pass); }); // takes the sample's vertices (up to limit/16 bytes)
         m_progress.finish();
     });
+    // Said once the tiles are snapped: a run that stops on a tile too large for the limit says
+    // only that, in one line. A resumed run's plan was made before (from another pool): nothing.
+    const std::uint64_t wanted = m_tiling.plan.vertex_budget;
+    const std::uint64_t planned = m_run->planned_vertex_budget();
+    if (planned > 0 && planned < wanted) {
+        const auto threads = static_cast<std::uint64_t>(m_run->threads());
+        m_small_tiles = fmt::format("--memory-limit {} left {} for tiles: tiles of at most {} vertices instead of {} "
+                                    "(--tile-vertex-budget), a slower run; about {} would give full-size tiles",
+                                    format_size(m_budget.memory_limit), format_size(m_result.memory_pool), planned, wanted,
+                                    smallest_limit_text(current_rss(), m_model.tile_bytes(wanted) * threads));
+    }
 }
 
 void RunPhases::snap(const std::function<bool(std::size_t)>& mine)

@@ -239,6 +239,54 @@ TEST(OutOfCoreLimits, TheSuggestedLimitIsEnoughForAFreshRun)
     EXPECT_EQ(less.code, 2) << "three quarters of the suggestion ran too: it is not the smallest";
 }
 
+// A limit that leaves the tiles less than --tile-vertex-budget says so once, after the tiles,
+// with the budget the plan used: every tile holds at most that many vertices, and the output is
+// the one of a run without a limit. A limit with room for full-size tiles says nothing.
+TEST(OutOfCoreLimits, SmallerTilesUnderALimitAreSaidWithTheBudgetThePlanUsed)
+{
+    const std::string andorra = data_dir() + "/snapoly_andorra/andorra.gpkg";
+    if (!exists(andorra)) {
+        GTEST_SKIP() << "data set absent: " << andorra;
+    }
+    TempDir dir;
+    auto run_at = [&](const std::string& limit, const std::string& name) {
+        std::vector<std::string> args{"snap", andorra, dir.path(name), "--tolerance", "1e-6", "--threads", "2",
+                                      "--report", dir.path(name + ".json")};
+        if (!limit.empty()) {
+            args.insert(args.end(), {"--memory-limit", limit});
+        }
+        return run_trisnap(dir, args);
+    };
+    const RunOutput free_run = run_at("", "free.gpkg");
+    ASSERT_EQ(free_run.code, 0) << free_run.err;
+    const RunOutput tight = run_at("170MiB", "tight.gpkg");
+    ASSERT_EQ(tight.code, 0) << tight.err;
+    const std::string marker = "tiles of at most ";
+    std::size_t said = 0;
+    std::uint64_t budget = 0;
+    for (const std::string& line : tight.err_lines()) {
+        if (const std::size_t at = line.find(marker); at != std::string::npos) {
+            ++said;
+            budget = std::stoull(line.substr(at + marker.size()));
+            EXPECT_NE(line.find("instead of 50000 (--tile-vertex-budget)"), std::string::npos) << line;
+            EXPECT_NE(line.find("would give full-size tiles"), std::string::npos) << line;
+        }
+    }
+    ASSERT_EQ(said, 1u) << "the smaller tiles are said once: " << tight.err;
+    ASSERT_GT(budget, 0u);
+    ASSERT_LT(budget, 50000u);
+    const nlohmann::json report = read_json(dir.path("tight.gpkg.json"));
+    ASSERT_GT(report["tiling"]["list"].size(), 1u);
+    for (const nlohmann::json& tile : report["tiling"]["list"]) {
+        EXPECT_LE(tile["input_vertices"].get<std::uint64_t>(), budget) << "tile " << tile["id"] << " over the budget said";
+    }
+    EXPECT_EQ(report["counts"]["written"].get<int>(), 5757);
+    EXPECT_TRUE(file_bytes(dir.path("tight.gpkg")) == file_bytes(dir.path("free.gpkg"))) << "smaller tiles changed the bytes";
+    const RunOutput roomy = run_at("2GiB", "roomy.gpkg");
+    ASSERT_EQ(roomy.code, 0) << roomy.err;
+    EXPECT_EQ(roomy.err.find(marker), std::string::npos) << roomy.err;
+}
+
 // A layer whose every feature has a problem (a repeated vertex: 102), 100 k of them: under a
 // limit they go to sorted runs in the work directory and come back one at a time, so the report's
 // problem list and the problems layer are those of the in-memory run, byte for byte.

@@ -607,6 +607,10 @@ TEST(VertexSample, DoesNotDependOnInputOrderAndKeepsEverythingUnderItsCap)
             s.add(c.x, c.y);
         }
         tiling::PlanInput in = s.take();
+        // Its memory too: 16 bytes a vertex up to the cap and the one over it that raises the
+        // level, not a doubling's twice that (the vectors come out of take() as they were held).
+        EXPECT_LE(in.xs.capacity(), std::max<std::size_t>(cap, 16) + 1);
+        EXPECT_LE(in.ys.capacity(), std::max<std::size_t>(cap, 16) + 1);
         std::vector<std::pair<double, double>> xy;
         for (std::size_t i = 0; i < in.xs.size(); ++i) {
             xy.emplace_back(in.xs[i], in.ys[i]);
@@ -649,6 +653,8 @@ TEST(VertexSample, AppendedPartsGiveTheSequentialSample)
             first.append(std::move(second));
             const tiling::PlanInput got = first.take();
             SCOPED_TRACE("cap " + std::to_string(cap) + ", cut at " + std::to_string(cut));
+            EXPECT_LE(got.xs.capacity(), cap + 1) << "the appended sample held more than its cap";
+            EXPECT_LE(got.ys.capacity(), cap + 1);
             EXPECT_EQ(got.level, expected.level);
             EXPECT_EQ(got.vertices, expected.vertices);
             EXPECT_EQ(got.xs, expected.xs);

@@ -5,10 +5,14 @@
 #include "tiling/tile_input.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <deque>
+#include <exception>
+#include <functional>
 #include <memory>
+#include <thread>
 
 namespace trisnap::stitch {
 
@@ -81,11 +85,23 @@ void grow_reach(const detail::CleanFeature& cf, const Box& feature_box, const Bo
 namespace {
 
 // A uniform grid over the data extent holding the leaves' reach boxes: the leaves whose R
-// meets a feature's box, without looking at every leaf.
+// meets a feature's box, without looking at every leaf. Read only once made; each thread asks
+// through a Query of its own (the marks of the leaves it found).
 class ReachGrid {
 public:
     ReachGrid(const std::vector<Box>& reach, const Box& extent);
-    void query(const Box& b, std::vector<std::size_t>& out);
+
+    class Query {
+    public:
+        explicit Query(const ReachGrid& grid) : m_grid(grid), m_stamp(grid.m_reach.size(), 0) {}
+        /// The leaves whose reach box meets `b`, in leaf order.
+        void run(const Box& b, std::vector<std::size_t>& out);
+
+    private:
+        const ReachGrid& m_grid;
+        std::vector<std::uint32_t> m_stamp;
+        std::uint32_t m_now = 0;
+    };
 
 private:
     long cell(double v, double origin, long n) const
@@ -100,8 +116,6 @@ private:
     long m_nx = 1;
     long m_ny = 1;
     std::vector<std::vector<std::uint32_t>> m_cells;
-    std::vector<std::uint32_t> m_stamp;
-    std::uint32_t m_now = 0;
 };
 
 ReachGrid::ReachGrid(const std::vector<Box>& reach, const Box& extent) : m_reach(reach), m_extent(extent)
@@ -117,7 +131,6 @@ ReachGrid::ReachGrid(const std::vector<Box>& reach, const Box& extent) : m_reach
     m_ny = std::clamp(static_cast<long>(h / m_step) + 1, 1L, 4096L);
     m_step = std::max({w / static_cast<double>(m_nx), h / static_cast<double>(m_ny), m_step * 1e-9});
     m_cells.resize(static_cast<std::size_t>(m_nx * m_ny));
-    m_stamp.assign(reach.size(), 0);
     for (std::uint32_t k = 0; k < reach.size(); ++k) {
         const Box& r = reach[k];
         if (r.empty()) {
@@ -131,14 +144,15 @@ ReachGrid::ReachGrid(const std::vector<Box>& reach, const Box& extent) : m_reach
     }
 }
 
-void ReachGrid::query(const Box& b, std::vector<std::size_t>& out)
+void ReachGrid::Query::run(const Box& b, std::vector<std::size_t>& out)
 {
+    const ReachGrid& g = m_grid;
     out.clear();
     ++m_now;
-    for (long x = cell(b.xmin, m_extent.xmin, m_nx); x <= cell(b.xmax, m_extent.xmin, m_nx); ++x) {
-        for (long y = cell(b.ymin, m_extent.ymin, m_ny); y <= cell(b.ymax, m_extent.ymin, m_ny); ++y) {
-            for (std::uint32_t k : m_cells[static_cast<std::size_t>(x * m_ny + y)]) {
-                if (m_stamp[k] != m_now && m_reach[k].intersects(b)) {
+    for (long x = g.cell(b.xmin, g.m_extent.xmin, g.m_nx); x <= g.cell(b.xmax, g.m_extent.xmin, g.m_nx); ++x) {
+        for (long y = g.cell(b.ymin, g.m_extent.ymin, g.m_ny); y <= g.cell(b.ymax, g.m_extent.ymin, g.m_ny); ++y) {
+            for (std::uint32_t k : g.m_cells[static_cast<std::size_t>(x * g.m_ny + y)]) {
+                if (m_stamp[k] != m_now && g.m_reach[k].intersects(b)) {
                     m_stamp[k] = m_now;
                     out.push_back(k);
                 }
@@ -151,7 +165,10 @@ void ReachGrid::query(const Box& b, std::vector<std::size_t>& out)
 // Bucket records buffered per leaf and appended to the store in large blocks.
 class BucketWriter {
 public:
-    BucketWriter(tiling::WorkStore& store, std::size_t cap) : m_store(store), m_cap(cap) {}
+    using Name = std::string (*)(std::size_t);
+    /// `name`: the file a leaf's records go to (files::bucket, or files::bucket_tail for a
+    /// second part of the features).
+    BucketWriter(tiling::WorkStore& store, std::size_t cap, Name name = &files::bucket) : m_store(store), m_cap(cap), m_name(name) {}
     void add(std::size_t leaf, const tiling::TileFeature& f)
     {
         if (m_buffers.size() <= leaf) {
@@ -173,7 +190,7 @@ public:
     {
         for (std::size_t leaf = 0; leaf < m_buffers.size(); ++leaf) {
             if (!m_buffers[leaf].empty()) {
-                m_store.append(files::bucket(leaf), m_buffers[leaf]);
+                m_store.append(m_name(leaf), m_buffers[leaf]);
                 m_buffers[leaf].clear();
                 m_buffers[leaf].shrink_to_fit();
             }
@@ -184,6 +201,7 @@ public:
 private:
     tiling::WorkStore& m_store;
     std::size_t m_cap;
+    Name m_name;
     std::vector<std::string> m_buffers;
     std::size_t m_buffered = 0;
 };
@@ -241,15 +259,17 @@ std::vector<tiling::TileFeature> read_bucket(const tiling::WorkStore& store, con
         return whole_bucket(store, layout, meta, leaf);
     }
     std::vector<tiling::TileFeature> out;
-    if (!store.exists(files::bucket(leaf))) {
-        return out;
-    }
-    const std::unique_ptr<tiling::InFile> file = store.open(files::bucket(leaf));
-    tiling::RecordReader reader(*file);
     std::string record;
-    while (reader.next(record)) {
-        tiling::ByteReader r(record, "bucket");
-        out.push_back(tiling::get_tile_feature(r));
+    for (const std::string& name : {files::bucket(leaf), files::bucket_tail(leaf)}) {
+        if (!store.exists(name)) {
+            continue; // a leaf no feature of that part reaches
+        }
+        const std::unique_ptr<tiling::InFile> file = store.open(name);
+        tiling::RecordReader reader(*file);
+        while (reader.next(record)) {
+            tiling::ByteReader r(record, "bucket");
+            out.push_back(tiling::get_tile_feature(r));
+        }
     }
     return out;
 }
@@ -277,6 +297,18 @@ public:
     TileLayout run(tiling::PlanInput sample);
 
 private:
+    /// A part of the spooled features: ranks from `first` on, features.bin's bytes [begin, end).
+    struct Part {
+        std::uint64_t first = 0;
+        std::uint64_t begin = 0;
+        std::uint64_t end = 0;
+    };
+    /// Called after each feature of a part with the pass's base for the progress (0 for the
+    /// first pass, the features' count for the second).
+    using Tick = std::function<void(std::uint64_t)>;
+    void split_parts();
+    template <class F>
+    void in_parts(F&& pass);
     void reach_pass();
     void bucket_pass();
     void split_oversize();
@@ -289,7 +321,106 @@ private:
     const BucketOptions& m_options;
     const PassProgress& m_progress;
     TileLayout m_layout;
+    std::vector<Part> m_parts;
 };
+
+// Two parts where there are two threads and features.bin holds at least this much for each:
+// a part is cut at a record near the middle of the bytes (features.idx gives where each record
+// starts). Below that a thread's start costs more than its half of the passes saves.
+constexpr std::uint64_t k_least_part_bytes = std::uint64_t{1} << 20;
+
+void BucketMaker::split_parts()
+{
+    const std::uint64_t bytes = m_store.size(files::features);
+    m_parts = {Part{0, 0, bytes}};
+    if (m_options.threads < 2 || bytes < 2 * k_least_part_bytes || !m_store.exists(files::offsets)) {
+        return;
+    }
+    const std::unique_ptr<tiling::InFile> idx = m_store.open(files::offsets);
+    const std::uint64_t count = idx->size() / sizeof(std::uint64_t);
+    const auto offset = [&](std::uint64_t rank) {
+        std::uint64_t o = 0;
+        idx->read_at(rank * sizeof o, reinterpret_cast<char*>(&o), sizeof o);
+        return o;
+    };
+    // The first record starting at or after the middle byte.
+    std::uint64_t lo = 0;
+    std::uint64_t hi = count;
+    while (lo < hi) {
+        const std::uint64_t mid = lo + (hi - lo) / 2;
+        if (offset(mid) < bytes / 2) {
+            lo = mid + 1;
+        } else {
+            hi = mid;
+        }
+    }
+    if (lo == 0 || lo == count) {
+        return;
+    }
+    const std::uint64_t cut = offset(lo);
+    if (cut < k_least_part_bytes || bytes - cut < k_least_part_bytes) {
+        return; // one record holds most of the layer
+    }
+    m_parts = {Part{0, 0, cut}, Part{lo, cut, bytes}};
+}
+
+// Runs `pass(k, features of part k, tick)` for each part, the first on this thread and the
+// second on a thread of its own, and returns when both have ended. Only this thread reports
+// progress (the run's progress checks for signals and may throw): with both parts' features
+// done. When one part throws, the other stops at its next 4096th feature and the first error
+// is thrown here.
+template <class F>
+void BucketMaker::in_parts(F&& pass)
+{
+    struct Stopped {};
+    std::atomic<std::uint64_t> others{0}; // features the second part has done (as of its last 4096th)
+    std::atomic<bool> stop{false};
+    const auto run = [&](std::size_t k) {
+        SpooledFeatures in(m_store, m_parts[k].begin, m_parts[k].end);
+        std::uint64_t done = 0;
+        const Tick tick = [&](std::uint64_t base) {
+            if (done++ % 4096 != 0) { // after its first feature, and every 4096th after
+                return;
+            }
+            if (stop.load(std::memory_order_relaxed)) {
+                throw Stopped{};
+            }
+            if (k > 0) {
+                others.store(done, std::memory_order_relaxed);
+            } else if (m_progress) {
+                m_progress(base + done + others.load(std::memory_order_relaxed), 2 * m_meta.spooled);
+            }
+        };
+        pass(k, in, tick);
+    };
+    if (m_parts.size() == 1) {
+        run(0);
+        return;
+    }
+    std::exception_ptr error; // the second part's
+    std::thread second([&] {
+        try {
+            run(1);
+        } catch (const Stopped&) {
+        } catch (...) {
+            error = std::current_exception();
+            stop = true;
+        }
+    });
+    try {
+        run(0);
+    } catch (const Stopped&) {
+        // the second part failed: its error is thrown below
+    } catch (...) {
+        stop = true;
+        second.join();
+        throw;
+    }
+    second.join();
+    if (error) {
+        std::rethrow_exception(error);
+    }
+}
 
 void BucketMaker::reach_pass()
 {
@@ -299,24 +430,31 @@ void BucketMaker::reach_pass()
     for (std::size_t leaf = 0; leaf < plan.size(); ++leaf) {
         r0[leaf] = m_layout.has_data(leaf) ? m_layout.core_box(leaf).expanded(h) : Box{};
     }
-    m_layout.reach = r0;
-    SpooledFeatures in(m_store);
-    detail::CleanFeature cf;
-    bool has_z = false;
-    std::vector<std::size_t> leaves;
-    for (std::uint64_t rank = 0; in.next(cf, has_z); ++rank) {
-        const Box b = box_of(cf);
-        if (!cf.rejected && !b.empty()) {
-            leaves.clear();
-            plan.query(b.expanded(h), leaves);
-            for (std::size_t leaf : leaves) {
-                if (!r0[leaf].empty()) {
-                    grow_reach(cf, b, r0[leaf], m_layout.reach[leaf]);
+    // Each part grows its own boxes from r0; a box is the union of the parts' (min and max:
+    // the same doubles in any order).
+    std::vector<std::vector<Box>> reach(m_parts.size(), r0);
+    in_parts([&](std::size_t k, SpooledFeatures& in, const Tick& tick) {
+        detail::CleanFeature cf;
+        bool has_z = false;
+        std::vector<std::size_t> leaves;
+        while (in.next(cf, has_z)) {
+            const Box b = box_of(cf);
+            if (!cf.rejected && !b.empty()) {
+                leaves.clear();
+                plan.query(b.expanded(h), leaves);
+                for (std::size_t leaf : leaves) {
+                    if (!r0[leaf].empty()) {
+                        grow_reach(cf, b, r0[leaf], reach[k][leaf]);
+                    }
                 }
             }
+            tick(0);
         }
-        if (m_progress && rank % 4096 == 0) {
-            m_progress(rank, 2 * m_meta.spooled);
+    });
+    m_layout.reach = std::move(reach[0]);
+    for (std::size_t k = 1; k < reach.size(); ++k) {
+        for (std::size_t leaf = 0; leaf < plan.size(); ++leaf) {
+            m_layout.reach[leaf].add(reach[k][leaf]);
         }
     }
     for (Box& r : m_layout.reach) {
@@ -329,43 +467,55 @@ void BucketMaker::reach_pass()
 void BucketMaker::bucket_pass()
 {
     const std::size_t n = m_layout.plan.size();
-    m_layout.bucket_vertices.assign(n, 0);
-    m_layout.bucket_features.assign(n, 0);
-    ReachGrid grid(m_layout.reach, m_meta.sample.extent);
-    std::vector<std::unique_ptr<tiling::TileCutter>> cutters(n);
-    BucketWriter writer(m_store, m_options.buffer_bytes);
+    const ReachGrid grid(m_layout.reach, m_meta.sample.extent);
     // A plan's only leaf keeps no bucket file (read_bucket() makes it from features.bin): here
     // its features are only counted. The layer is then not held twice (40 MB of Andorra x43's
     // 127 in memory, or as much disk).
     const bool whole = whole_spool_bucket(m_layout);
-    SpooledFeatures in(m_store);
-    detail::CleanFeature cf;
-    bool has_z = false;
-    std::vector<std::size_t> leaves;
-    tiling::TileFeature tf;
-    for (std::uint64_t rank = 0; in.next(cf, has_z); ++rank) {
-        const Box b = box_of(cf);
-        if (!cf.rejected && !b.empty()) {
-            grid.query(b, leaves);
-            for (std::size_t leaf : leaves) {
-                if (!cutters[leaf]) {
-                    cutters[leaf] = leaf_cutter(m_layout, m_meta, leaf);
-                }
-                if (!bucket_entry(*cutters[leaf], m_meta, cf, has_z, rank, tf)) {
-                    continue;
-                }
-                m_layout.bucket_vertices[leaf] += tiling::engine_vertices(tf.feature.geometry);
-                ++m_layout.bucket_features[leaf];
-                if (!whole) {
-                    writer.add(leaf, tf);
+    // Each part counts apart and writes its own files: the first part's records go to
+    // files::bucket, the second's to files::bucket_tail, read after them (read_bucket()): each
+    // bucket holds its features in input order, as one pass would have written it.
+    std::vector<std::vector<std::uint64_t>> vertices(m_parts.size(), std::vector<std::uint64_t>(n, 0));
+    std::vector<std::vector<std::uint64_t>> features(m_parts.size(), std::vector<std::uint64_t>(n, 0));
+    const std::size_t buffer = std::max<std::size_t>(m_options.buffer_bytes / m_parts.size(), 1);
+    in_parts([&](std::size_t k, SpooledFeatures& in, const Tick& tick) {
+        ReachGrid::Query query(grid);
+        std::vector<std::unique_ptr<tiling::TileCutter>> cutters(n);
+        BucketWriter writer(m_store, buffer, k == 0 ? &files::bucket : &files::bucket_tail);
+        detail::CleanFeature cf;
+        bool has_z = false;
+        std::vector<std::size_t> leaves;
+        tiling::TileFeature tf;
+        for (std::uint64_t rank = m_parts[k].first; in.next(cf, has_z); ++rank) {
+            const Box b = box_of(cf);
+            if (!cf.rejected && !b.empty()) {
+                query.run(b, leaves);
+                for (std::size_t leaf : leaves) {
+                    if (!cutters[leaf]) {
+                        cutters[leaf] = leaf_cutter(m_layout, m_meta, leaf);
+                    }
+                    if (!bucket_entry(*cutters[leaf], m_meta, cf, has_z, rank, tf)) {
+                        continue;
+                    }
+                    vertices[k][leaf] += tiling::engine_vertices(tf.feature.geometry);
+                    ++features[k][leaf];
+                    if (!whole) {
+                        writer.add(leaf, tf);
+                    }
                 }
             }
+            tick(m_meta.spooled);
         }
-        if (m_progress && rank % 4096 == 0) {
-            m_progress(m_meta.spooled + rank, 2 * m_meta.spooled);
+        writer.flush();
+    });
+    m_layout.bucket_vertices.assign(n, 0);
+    m_layout.bucket_features.assign(n, 0);
+    for (std::size_t k = 0; k < m_parts.size(); ++k) {
+        for (std::size_t leaf = 0; leaf < n; ++leaf) {
+            m_layout.bucket_vertices[leaf] += vertices[k][leaf];
+            m_layout.bucket_features[leaf] += features[k][leaf];
         }
     }
-    writer.flush();
 }
 
 void BucketMaker::fill_child(std::size_t leaf, const std::vector<tiling::TileFeature>& parent)
@@ -376,6 +526,7 @@ void BucketMaker::fill_child(std::size_t leaf, const std::vector<tiling::TileFea
     m_layout.bucket_features[leaf] = 0;
     const tiling::TileCutter cutter(R, tiling::detour_frame(m_meta.sample.extent, R));
     m_store.remove(files::bucket(leaf));
+    m_store.remove(files::bucket_tail(leaf));
     BucketWriter writer(m_store, m_options.buffer_bytes);
     tiling::TileFeature child;
     for (const tiling::TileFeature& f : parent) {
@@ -483,6 +634,7 @@ TileLayout BucketMaker::run(tiling::PlanInput sample)
     m_layout.halo = m_options.halo;
     m_layout.seam_band = m_options.seam_band;
     m_store.remove_all("bucket-");
+    split_parts();
     reach_pass();
     bucket_pass();
     // A tile's box grows to hold both ends of every edge meeting it. When that makes one tile

@@ -42,8 +42,9 @@ struct TilingOptions {
 /// records.bin flags the features the read reported a problem for; read.bin lists the problem
 /// log's runs instead of holding the problems. 3: a piece that is not whole carries its
 /// finished polygons after its edges. 4: read.bin leaves the spool's meta to spool.meta. 5: a plan of
-/// one leaf writes no bucket file (its bucket is features.bin).
-inline constexpr int k_work_format = 6;
+/// one leaf writes no bucket file (its bucket is features.bin). 6: a piece carries its shared-boundary
+/// evidence. 7: a bucket may go on in a second file (files::bucket_tail), the spool's second thread's.
+inline constexpr int k_work_format = 7;
 
 /// Work file names.
 namespace files {
@@ -55,6 +56,9 @@ inline const std::string spool_meta = "spool.meta";  ///< extent, sample, counts
 inline const std::string layout = "layout.bin";      ///< TileLayout
 inline const std::string groups = "groups.bin";      ///< Groups
 inline std::string bucket(std::size_t leaf) { return "bucket-" + std::to_string(leaf); }
+/// The rest of a leaf's bucket, after bucket(leaf)'s records: the features of the spool's second
+/// part (stitch/buckets.cpp), filled at the same time as bucket(leaf) by another thread.
+inline std::string bucket_tail(std::size_t leaf) { return "bucket-" + std::to_string(leaf) + ".tail"; }
 inline std::string result(std::size_t group) { return "result-" + std::to_string(group); }
 inline std::string seams(std::size_t group) { return "seams-" + std::to_string(group); }
 } // namespace files

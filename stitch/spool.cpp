@@ -404,6 +404,11 @@ SpooledFeatures::SpooledFeatures(const tiling::WorkStore& store, bool outline)
 {
 }
 
+SpooledFeatures::SpooledFeatures(const tiling::WorkStore& store, std::uint64_t begin, std::uint64_t end)
+    : m_file(std::make_unique<tiling::FileRange>(store.open(files::features), begin, end)), m_reader(*m_file), m_outline(false)
+{
+}
+
 bool spool_cut_to_outlines(const tiling::WorkStore& store)
 {
     return !store.exists(files::features) && store.exists(files::outlines);

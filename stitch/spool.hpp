@@ -126,6 +126,9 @@ public:
     /// their counts, flags and first points); they are read from features.outline when the spool
     /// was cut to it (cut_spool_to_outlines()).
     explicit SpooledFeatures(const tiling::WorkStore& store, bool outline = false);
+    /// The features whose records are features.bin's bytes [begin, end) (record boundaries, as
+    /// features.idx gives them), in order.
+    SpooledFeatures(const tiling::WorkStore& store, std::uint64_t begin, std::uint64_t end);
     /// The next feature in input order; false at the end.
     bool next(detail::CleanFeature& f, bool& has_z);
 
@@ -154,7 +157,8 @@ struct BucketOptions {
     double halo = 0;                        ///< layer units
     double seam_band = 0;                   ///< layer units
     std::uint64_t max_tile_vertices = 0;    ///< 0: no limit; larger buckets are split
-    std::size_t buffer_bytes = 64u << 20;   ///< bucket data buffered before appending
+    std::size_t buffer_bytes = 64u << 20;   ///< bucket data buffered before appending (all threads together)
+    int threads = 1;                        ///< 2 or more: the passes over the features run in two parts at once
 };
 
 /// A tile that cannot be made small enough for the budget: what() says which and how much;

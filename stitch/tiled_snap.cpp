@@ -232,6 +232,7 @@ void TiledRun::plan(SpoolMeta& meta, const PassProgress& progress)
     bo.halo = tiling.halo_factor * m.options.tolerance;
     bo.seam_band = 2 * m.options.tolerance + 4 * m.options.grid;
     bo.max_tile_vertices = m.max_tile_vertices();
+    bo.threads = m.threads();
     if (m.schedule.memory_pool > 0) {
         tiling.plan.vertex_budget = static_cast<std::size_t>(
             pool_tile_vertices(m.schedule.model, m.schedule.memory_pool, m.threads(), tiling.plan.vertex_budget));

@@ -1,5 +1,6 @@
 #include "tiling/work_store.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -283,6 +284,33 @@ std::uint64_t RecordWriter::write(std::string_view record)
     m_file.write(std::string_view(reinterpret_cast<const char*>(&n), sizeof n));
     m_file.write(record);
     return offset;
+}
+
+FileRange::FileRange(std::unique_ptr<InFile> file, std::uint64_t begin, std::uint64_t end)
+    : m_file(std::move(file)), m_begin(begin), m_end(end), m_pos(begin)
+{
+    if (begin > end || end > m_file->size()) {
+        throw work_error("damaged work file: bytes " + std::to_string(begin) + " to " + std::to_string(end) + " of a file of " +
+                         std::to_string(m_file->size()));
+    }
+}
+
+std::size_t FileRange::read(char* out, std::size_t n)
+{
+    const auto k = static_cast<std::size_t>(std::min<std::uint64_t>(n, m_end - m_pos));
+    if (k > 0) {
+        m_file->read_at(m_pos, out, k);
+        m_pos += k;
+    }
+    return k;
+}
+
+void FileRange::read_at(std::uint64_t offset, char* out, std::size_t n)
+{
+    if (offset > size() || n > size() - offset) {
+        throw work_error("damaged work file: a read past the end of its part");
+    }
+    m_file->read_at(m_begin + offset, out, n);
 }
 
 bool RecordReader::fill(std::size_t n)

@@ -82,6 +82,22 @@ public:
     std::string get(const std::string& name) const;
 };
 
+/// Bytes [begin, end) of another file, as a file of their own: read() runs from `begin`, and
+/// read_at() offsets count from it. For readers that each take a part of one file.
+class FileRange : public InFile {
+public:
+    FileRange(std::unique_ptr<InFile> file, std::uint64_t begin, std::uint64_t end);
+    std::size_t read(char* out, std::size_t n) override;
+    void read_at(std::uint64_t offset, char* out, std::size_t n) override;
+    std::uint64_t size() const override { return m_end - m_begin; }
+
+private:
+    std::unique_ptr<InFile> m_file;
+    std::uint64_t m_begin;
+    std::uint64_t m_end;
+    std::uint64_t m_pos; ///< in the underlying file
+};
+
 /// Files in a directory (created when missing).
 std::unique_ptr<WorkStore> make_directory_store(const std::string& directory);
 /// Files held in memory.

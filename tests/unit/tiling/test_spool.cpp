@@ -506,6 +506,77 @@ TEST_P(StoreTest, APlanOfOneLeafTakesItsBucketFromTheSpool)
     EXPECT_EQ(layout.bucket_vertices[0], vertices);
 }
 
+// With two threads and a spool of over 2 MiB the passes over the features run in two parts at
+// once: the layout and the buckets are those of one pass (the same reach boxes and counts, each
+// bucket's records the same bytes in the same order), the second part's records in the buckets'
+// tails. A progress that throws (a signal) stops both parts and comes out of make_buckets().
+TEST_P(StoreTest, TheSpoolsPassesInTwoPartsMakeTheBucketsOfOne)
+{
+    const double t = 0.01;
+    std::vector<Feature> input = perturbed_grid_coverage(80, 80, 1.0, 0.2, 9, 8, 0.004);
+    for (Feature& f : coverage_line_and_rejected(8, 5)) {
+        f.id += 100000; // a line and a rejected feature besides the coverage
+        input.push_back(std::move(f));
+    }
+    stitch::TilingOptions tiling;
+    tiling.plan.vertex_budget = 20000;
+    stitch::BucketOptions bo;
+    bo.halo = 4 * t;
+    bo.seam_band = 2 * t + 4e-9;
+    struct Made {
+        std::unique_ptr<tiling::WorkStore> store;
+        stitch::SpoolMeta meta;
+        stitch::TileLayout layout;
+    };
+    const auto made = [&](std::unique_ptr<tiling::WorkStore> store, int threads, const stitch::PassProgress& progress = {}) {
+        Made m{std::move(store), {}, {}};
+        m.meta = spool_features(*m.store, input, t);
+        bo.threads = threads;
+        m.layout = stitch::make_buckets(*m.store, m.meta, m.meta.sample.take_vertices(), tiling, bo, progress);
+        return m;
+    };
+    const Made one = made(tiling::make_memory_store(), 1);
+    std::uint64_t reported = 0;
+    const Made two = made(make(), 2, [&](std::uint64_t done, std::uint64_t) { reported = std::max(reported, done); });
+    ASSERT_GT(two.store->size(stitch::files::features), std::uint64_t{2} << 20) << "a spool too small for two parts";
+    const std::size_t leaves = one.layout.plan.size();
+    ASSERT_GT(leaves, 8u);
+    ASSERT_EQ(two.layout.plan.size(), leaves);
+    EXPECT_GT(reported, two.meta.spooled) << "the progress did not count the second pass";
+    EXPECT_LE(reported, 2 * two.meta.spooled);
+    const auto records = [](const Made& m, std::size_t leaf) {
+        std::vector<std::string> out;
+        for (const tiling::TileFeature& f : stitch::read_bucket(*m.store, m.layout, m.meta, leaf)) {
+            tiling::ByteWriter w(out.emplace_back());
+            tiling::put_tile_feature(w, f);
+        }
+        return out;
+    };
+    std::size_t tails = 0;
+    std::size_t entries = 0;
+    for (std::size_t leaf = 0; leaf < leaves; ++leaf) {
+        const tiling::Box& a = one.layout.reach[leaf];
+        const tiling::Box& b = two.layout.reach[leaf];
+        EXPECT_TRUE(a.xmin == b.xmin && a.ymin == b.ymin && a.xmax == b.xmax && a.ymax == b.ymax) << "leaf " << leaf;
+        EXPECT_EQ(one.layout.bucket_vertices[leaf], two.layout.bucket_vertices[leaf]) << "leaf " << leaf;
+        EXPECT_EQ(one.layout.bucket_features[leaf], two.layout.bucket_features[leaf]) << "leaf " << leaf;
+        EXPECT_FALSE(one.store->exists(stitch::files::bucket_tail(leaf))) << "one thread wrote a tail";
+        tails += two.store->exists(stitch::files::bucket_tail(leaf)) ? 1 : 0;
+        const std::vector<std::string> expected = records(one, leaf);
+        EXPECT_TRUE(records(two, leaf) == expected) << "leaf " << leaf << ": the records differ";
+        entries += expected.size();
+    }
+    EXPECT_GT(tails, 0u) << "the passes did not run in two parts";
+    EXPECT_GT(entries, input.size()) << "features in several buckets (halos)";
+    // Stopped from this thread's progress: the second part ends too, and the error comes out.
+    const auto stopping = [](std::uint64_t done, std::uint64_t) {
+        if (done > 0) {
+            throw std::runtime_error("interrupted");
+        }
+    };
+    EXPECT_THROW(made(tiling::make_memory_store(), 2, stopping), std::runtime_error);
+}
+
 // A spool cut to outlines reads back exactly the outlines it held, and nothing whole any more.
 TEST_P(StoreTest, ASpoolCutToOutlinesKeepsItsOutlinesAndNothingElse)
 {

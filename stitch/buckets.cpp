@@ -324,16 +324,18 @@ private:
     std::vector<Part> m_parts;
 };
 
-// Two parts where there are two threads and features.bin holds at least this much for each:
-// a part is cut at a record near the middle of the bytes (features.idx gives where each record
-// starts). Below that a thread's start costs more than its half of the passes saves.
-constexpr std::uint64_t k_least_part_bytes = std::uint64_t{1} << 20;
-
+// Two parts where there are two threads and features.bin holds BucketOptions::least_part_bytes
+// for each: a part is cut at a record near the middle of the bytes (features.idx gives where each
+// record starts). Below that the second thread cost more than it saved on the team's VM: Jakarta's
+// buildings (~6 MB) and Natural Earth land (~7 MB, 66 % in one feature) kept their spool's wall
+// time (0.017 and 0.042 s, 7 runs) for 0.01 and 0.025 CPU-s more; Andorra x43 (~40 MB) went
+// 0.131 -> 0.111 s, 1 M polygons out of core 0.43 -> 0.33 s (bench/results/REPORT.md).
 void BucketMaker::split_parts()
 {
+    const std::uint64_t least = std::max<std::uint64_t>(m_options.least_part_bytes, 1);
     const std::uint64_t bytes = m_store.size(files::features);
     m_parts = {Part{0, 0, bytes}};
-    if (m_options.threads < 2 || bytes < 2 * k_least_part_bytes || !m_store.exists(files::offsets)) {
+    if (m_options.threads < 2 || bytes / 2 < least || !m_store.exists(files::offsets)) {
         return;
     }
     const std::unique_ptr<tiling::InFile> idx = m_store.open(files::offsets);
@@ -358,7 +360,7 @@ void BucketMaker::split_parts()
         return;
     }
     const std::uint64_t cut = offset(lo);
-    if (cut < k_least_part_bytes || bytes - cut < k_least_part_bytes) {
+    if (cut < least || bytes - cut < least) {
         return; // one record holds most of the layer
     }
     m_parts = {Part{0, 0, cut}, Part{lo, cut, bytes}};

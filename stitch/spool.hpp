@@ -158,7 +158,8 @@ struct BucketOptions {
     double seam_band = 0;                   ///< layer units
     std::uint64_t max_tile_vertices = 0;    ///< 0: no limit; larger buckets are split
     std::size_t buffer_bytes = 64u << 20;   ///< bucket data buffered before appending (all threads together)
-    int threads = 1;                        ///< 2 or more: the passes over the features run in two parts at once
+    int threads = 1;                        ///< 2 or more: the passes over the features run in two parts at once,
+    std::uint64_t least_part_bytes = 8u << 20; ///< where each part holds at least this much of features.bin
 };
 
 /// A tile that cannot be made small enough for the budget: what() says which and how much;

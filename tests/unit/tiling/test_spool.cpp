@@ -506,8 +506,8 @@ TEST_P(StoreTest, APlanOfOneLeafTakesItsBucketFromTheSpool)
     EXPECT_EQ(layout.bucket_vertices[0], vertices);
 }
 
-// With two threads and a spool of over 2 MiB the passes over the features run in two parts at
-// once: the layout and the buckets are those of one pass (the same reach boxes and counts, each
+// With two threads and a spool of twice BucketOptions::least_part_bytes (1 MiB here) the passes
+// over the features run in two parts at once: the layout and the buckets are those of one pass (the same reach boxes and counts, each
 // bucket's records the same bytes in the same order), the second part's records in the buckets'
 // tails. A progress that throws (a signal) stops both parts and comes out of make_buckets().
 TEST_P(StoreTest, TheSpoolsPassesInTwoPartsMakeTheBucketsOfOne)
@@ -523,6 +523,7 @@ TEST_P(StoreTest, TheSpoolsPassesInTwoPartsMakeTheBucketsOfOne)
     stitch::BucketOptions bo;
     bo.halo = 4 * t;
     bo.seam_band = 2 * t + 4e-9;
+    bo.least_part_bytes = std::uint64_t{1} << 20;
     struct Made {
         std::unique_ptr<tiling::WorkStore> store;
         stitch::SpoolMeta meta;

@@ -578,6 +578,71 @@ TEST_P(StoreTest, TheSpoolsPassesInTwoPartsMakeTheBucketsOfOne)
     EXPECT_THROW(made(tiling::make_memory_store(), 2, stopping), std::runtime_error);
 }
 
+// A store whose appends to files whose names end with `suffix` fail as a full disk does.
+class FullFor : public tiling::WorkStore {
+public:
+    FullFor(tiling::WorkStore& inner, std::string suffix) : m_inner(inner), m_suffix(std::move(suffix)) {}
+    std::unique_ptr<tiling::OutFile> create(const std::string& name) override { return m_inner.create(name); }
+    std::unique_ptr<tiling::InFile> open(const std::string& name) const override { return m_inner.open(name); }
+    bool exists(const std::string& name) const override { return m_inner.exists(name); }
+    void remove(const std::string& name) override { m_inner.remove(name); }
+    void remove_all(const std::string& prefix) override { m_inner.remove_all(prefix); }
+    void append(const std::string& name, std::string_view bytes) override
+    {
+        if (name.size() >= m_suffix.size() && name.compare(name.size() - m_suffix.size(), m_suffix.size(), m_suffix) == 0) {
+            throw tiling::disk_full_error(name + ": cannot write: No space left on device", "full");
+        }
+        m_inner.append(name, bytes);
+    }
+    std::uint64_t size(const std::string& name) const override { return m_inner.size(name); }
+    std::uint64_t total_bytes() const override { return m_inner.total_bytes(); }
+    std::uint64_t free_space() const override { return m_inner.free_space(); }
+    bool on_disk() const override { return m_inner.on_disk(); }
+    std::string where() const override { return m_inner.where(); }
+
+private:
+    tiling::WorkStore& m_inner;
+    std::string m_suffix;
+};
+
+// A write that fails in either half of the spool's passes comes out of make_buckets() as that
+// error, on the caller's thread, whichever half met it (the other half stops; no hang, no
+// terminate), and the buckets of a run that succeeds after it on the same store are whole.
+TEST_P(StoreTest, AFailedWriteInEitherHalfOfTheSpoolComesOutOnce)
+{
+    const double t = 0.01;
+    const std::vector<Feature> input = perturbed_grid_coverage(80, 80, 1.0, 0.2, 9, 8, 0.004);
+    auto store = make();
+    stitch::SpoolMeta meta = spool_features(*store, input, t);
+    stitch::TilingOptions tiling;
+    tiling.plan.vertex_budget = 20000;
+    stitch::BucketOptions bo;
+    bo.halo = 4 * t;
+    bo.seam_band = 2 * t + 4e-9;
+    bo.threads = 2;
+    bo.least_part_bytes = std::uint64_t{1} << 20;
+    bo.buffer_bytes = 1 << 16; // appends all along each half, not only at its end
+    const tiling::PlanInput sample = meta.sample.take_vertices();
+    for (const std::string suffix : {".tail", "-0", "-1", "-2", "-3"}) { // the second half's files; the first's
+        SCOPED_TRACE(suffix);
+        FullFor full(*store, suffix);
+        try {
+            stitch::make_buckets(full, meta, sample, tiling, bo);
+            ADD_FAILURE() << "no error";
+        } catch (const tiling::disk_full_error& e) {
+            EXPECT_NE(std::string(e.what()).find(suffix), std::string::npos) << e.what();
+        }
+    }
+    const stitch::TileLayout layout = stitch::make_buckets(*store, meta, sample, tiling, bo);
+    std::uint64_t entries = 0;
+    for (std::size_t leaf = 0; leaf < layout.plan.size(); ++leaf) {
+        const std::size_t n = stitch::read_bucket(*store, layout, meta, leaf).size();
+        EXPECT_EQ(n, layout.bucket_features[leaf]) << "leaf " << leaf;
+        entries += n;
+    }
+    EXPECT_GT(entries, input.size());
+}
+
 // A spool cut to outlines reads back exactly the outlines it held, and nothing whole any more.
 TEST_P(StoreTest, ASpoolCutToOutlinesKeepsItsOutlinesAndNothingElse)
 {

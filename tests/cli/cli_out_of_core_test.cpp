@@ -213,17 +213,30 @@ TEST_F(OutOfCore, WorkDirectoriesOfOtherRunsAreRefused)
 // have been enough with the margin of the limit tried (the margin grows with the limit): the
 // same command with the suggested limit runs through, and one with three quarters of it is
 // refused again.
-TEST(OutOfCoreLimits, TheSuggestedLimitIsEnoughForAFreshRun)
-{
-    const std::string andorra = data_dir() + "/snapoly_andorra/andorra.gpkg";
-    if (!exists(andorra)) {
-        GTEST_SKIP() << "data set absent: " << andorra;
+// Andorra at t = 1e-6 on two threads under a limit ("": none), into `name` in a directory of its own.
+class OutOfCoreLimits : public ::testing::Test {
+protected:
+    void SetUp() override
+    {
+        if (!exists(m_andorra)) {
+            GTEST_SKIP() << "data set absent: " << m_andorra;
+        }
     }
+    RunOutput run_at(const std::string& limit, const std::string& name, std::vector<std::string> extra = {"-q"})
+    {
+        std::vector<std::string> args{"snap", m_andorra, dir.path(name), "--tolerance", "1e-6", "--threads", "2"};
+        if (!limit.empty()) {
+            args.insert(args.end(), {"--memory-limit", limit});
+        }
+        args.insert(args.end(), extra.begin(), extra.end());
+        return run_trisnap(dir, args);
+    }
+    const std::string m_andorra = data_dir() + "/snapoly_andorra/andorra.gpkg";
     TempDir dir;
-    auto run_at = [&](const std::string& limit, const std::string& name) {
-        return run_trisnap(dir, {"snap", andorra, dir.path(name), "--tolerance", "1e-6", "--memory-limit", limit,
-                                 "--threads", "2", "-q"});
-    };
+};
+
+TEST_F(OutOfCoreLimits, TheSuggestedLimitIsEnoughForAFreshRun)
+{
     const RunOutput small = run_at("32MiB", "small.gpkg");
     expect_error(small, 2, "--memory-limit 32 MiB is too small");
     const std::string marker = "the smallest limit that would work is about ";
@@ -242,24 +255,11 @@ TEST(OutOfCoreLimits, TheSuggestedLimitIsEnoughForAFreshRun)
 // A limit that leaves the tiles less than --tile-vertex-budget says so once, after the tiles,
 // with the budget the plan used: every tile holds at most that many vertices, and the output is
 // the one of a run without a limit. A limit with room for full-size tiles says nothing.
-TEST(OutOfCoreLimits, SmallerTilesUnderALimitAreSaidWithTheBudgetThePlanUsed)
+TEST_F(OutOfCoreLimits, SmallerTilesUnderALimitAreSaidWithTheBudgetThePlanUsed)
 {
-    const std::string andorra = data_dir() + "/snapoly_andorra/andorra.gpkg";
-    if (!exists(andorra)) {
-        GTEST_SKIP() << "data set absent: " << andorra;
-    }
-    TempDir dir;
-    auto run_at = [&](const std::string& limit, const std::string& name) {
-        std::vector<std::string> args{"snap", andorra, dir.path(name), "--tolerance", "1e-6", "--threads", "2",
-                                      "--report", dir.path(name + ".json")};
-        if (!limit.empty()) {
-            args.insert(args.end(), {"--memory-limit", limit});
-        }
-        return run_trisnap(dir, args);
-    };
     const RunOutput free_run = run_at("", "free.gpkg");
     ASSERT_EQ(free_run.code, 0) << free_run.err;
-    const RunOutput tight = run_at("170MiB", "tight.gpkg");
+    const RunOutput tight = run_at("170MiB", "tight.gpkg", {"--report", dir.path("tight.gpkg.json")});
     ASSERT_EQ(tight.code, 0) << tight.err;
     const std::string marker = "tiles of at most ";
     std::size_t said = 0;
@@ -282,7 +282,7 @@ TEST(OutOfCoreLimits, SmallerTilesUnderALimitAreSaidWithTheBudgetThePlanUsed)
     }
     EXPECT_EQ(report["counts"]["written"].get<int>(), 5757);
     EXPECT_TRUE(file_bytes(dir.path("tight.gpkg")) == file_bytes(dir.path("free.gpkg"))) << "smaller tiles changed the bytes";
-    const RunOutput roomy = run_at("2GiB", "roomy.gpkg");
+    const RunOutput roomy = run_at("2GiB", "roomy.gpkg", {});
     ASSERT_EQ(roomy.code, 0) << roomy.err;
     EXPECT_EQ(roomy.err.find(marker), std::string::npos) << roomy.err;
 }
